@@ -1,0 +1,40 @@
+# farfield: `make demo` and `make test` install what is missing, build, and run.
+BUILD ?= build
+JOBS ?= $(shell nproc)
+CMAKE_FLAGS ?= -G Ninja -DCMAKE_BUILD_TYPE=Release
+OUT ?= out
+
+.PHONY: deps build demo test bench fuzz clean
+
+deps:
+	@bash scripts/install-deps.sh
+
+build: deps
+	@cmake -S . -B $(BUILD) $(CMAKE_FLAGS) > /dev/null
+	@cmake --build $(BUILD) -j $(JOBS)
+
+demo: build
+	@mkdir -p $(OUT)
+	$(BUILD)/farfield generate city --out $(OUT)/city.ffscene
+	$(BUILD)/farfield info $(OUT)/city.ffscene
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# Google Benchmark targets (not part of the correctness run).
+bench: build
+	@for b in $(BUILD)/bench_*; do $$b; done
+
+# libFuzzer targets, built with clang into build-fuzz; FUZZ_SECONDS per target.
+FUZZ_SECONDS ?= 60
+fuzz: deps
+	@cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DCMAKE_CXX_COMPILER=clang++-14 -DFARFIELD_FUZZ=ON -DFARFIELD_TESTS=OFF \
+	  -DFARFIELD_BENCH=OFF > /dev/null
+	@cmake --build build-fuzz -j $(JOBS)
+	@mkdir -p build-fuzz/corpus
+	build-fuzz/fuzz_scene_file -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=4096 \
+	  build-fuzz/corpus fuzz/corpus/scene_file
+
+clean:
+	rm -rf $(BUILD) build-fuzz

@@ -1,0 +1,128 @@
+// farfield generate city | field
+#include <chrono>
+#include <cstdio>
+
+#include "commands.hpp"
+#include "farfield/scene/city_generator.hpp"
+#include "farfield/scene/field_generator.hpp"
+#include "farfield/scene/import.hpp"
+#include "farfield/scene/scene_file.hpp"
+
+namespace farfield::cli {
+
+namespace {
+
+int write_and_report(const Scene& scene, const std::string& out,
+                     std::chrono::steady_clock::time_point start) {
+  if (auto ok = write_scene(scene, out); !ok) return fail(ok.error().message);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("wrote %s: %llu triangles, %zu objects, %.1f x %.1f m, in %.2f s\n", out.c_str(),
+              static_cast<unsigned long long>(scene.triangle_count()), scene.objects.size(),
+              scene.bounds.size().x, scene.bounds.size().z, seconds);
+  return 0;
+}
+
+void add_city(CLI::App& generate, std::vector<Command>& commands) {
+  struct Settings {
+    CityOptions city;
+    uint32_t blocks = 0;
+    std::string out;
+    bool quiet = false;
+  };
+  auto s = std::make_shared<Settings>();
+  CityOptions& c = s->city;
+  CLI::App* cmd = generate.add_subcommand(
+      "city", "The random city of paper 000, App. A: blocks of buildings, parks, fountains, trees, "
+              "streets and curbs. The default is about 1 km x 1 km with over 1M triangles.");
+  cmd->add_option("--out,-o", s->out, "Output .ffscene file")->required();
+  cmd->add_option("--seed", c.seed, "Random seed; the same seed and options give the same file")
+      ->capture_default_str();
+  cmd->add_option("--target-triangles", c.target_triangles,
+                  "Grow the (square) grid of blocks until the city has at least this many "
+                  "triangles; overrides --blocks")
+      ->capture_default_str();
+  cmd->add_option("--max-height", c.max_height, "Maximum height of the city, m")
+      ->capture_default_str();
+  cmd->add_option("--block-length", c.block_length, "Length of a block along X, m")
+      ->capture_default_str();
+  cmd->add_option("--block-width", c.block_width, "Width of a block along Z, m")
+      ->capture_default_str();
+  cmd->add_option("--rows", c.rows, "Maximum rows of buildings per block")->capture_default_str();
+  cmd->add_option("--columns", c.columns, "Maximum columns of buildings per block")
+      ->capture_default_str();
+  cmd->add_option("--blocks", s->blocks, "Blocks in each dimension (sets --blocks-x and --blocks-z)");
+  cmd->add_option("--blocks-x", c.blocks_x, "Blocks along X")->capture_default_str();
+  cmd->add_option("--blocks-z", c.blocks_z, "Blocks along Z")->capture_default_str();
+  cmd->add_option("--street-width", c.street_width, "Street width, m")->capture_default_str();
+  cmd->add_option("--street-height", c.street_height, "Street slab height, m")
+      ->capture_default_str();
+  cmd->add_option("--curb-width", c.curb_width, "Curb width, m")->capture_default_str();
+  cmd->add_option("--curb-height", c.curb_height, "Curb height above the street, m")
+      ->capture_default_str();
+  cmd->add_option("--tree-distance", c.tree_distance, "Distance between trees, m")
+      ->capture_default_str();
+  cmd->add_option("--park-blocks", c.park_block_fraction, "Fraction of blocks that are parks")
+      ->capture_default_str();
+  cmd->add_option("--tree-blocks", c.tree_block_fraction,
+                  "Fraction of blocks lined with trees")
+      ->capture_default_str();
+  cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
+  commands.push_back({cmd, [s] {
+                        const auto start = std::chrono::steady_clock::now();
+                        if (s->blocks) s->city.blocks_x = s->city.blocks_z = s->blocks;
+                        Progress progress(s->quiet);
+                        auto scene = generate_city(s->city, progress);
+                        progress.finish();
+                        if (!scene) return fail(scene.error().message);
+                        return write_and_report(*scene, s->out, start);
+                      }});
+}
+
+void add_field(CLI::App& generate, std::vector<Command>& commands) {
+  struct Settings {
+    FieldOptions field;
+    std::string mesh, out;
+    bool quiet = false;
+  };
+  auto s = std::make_shared<Settings>();
+  CLI::App* cmd = generate.add_subcommand(
+      "field", "Copies of one model on a square grid, each copy its own object (the scaling "
+               "experiments of paper 002, Sec. 6.3)");
+  cmd->add_option("--mesh", s->mesh, "The model: a .ffscene or any format 'import' reads")
+      ->required();
+  cmd->add_option("--count", s->field.count, "Number of copies")->capture_default_str();
+  cmd->add_option("--spacing", s->field.spacing, "Distance between copies, m")
+      ->capture_default_str();
+  cmd->add_option("--out,-o", s->out, "Output .ffscene file")->required();
+  cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
+  commands.push_back({cmd, [s] {
+                        const auto start = std::chrono::steady_clock::now();
+                        if (auto ok = validate_field_options(s->field); !ok)
+                          return fail(ok.error().message);
+                        Scene model;
+                        if (is_scene_file(s->mesh)) {
+                          auto read = read_scene(s->mesh);
+                          if (!read) return fail(read.error().message);
+                          model = std::move(*read);
+                        } else if (auto ok = import_model(s->mesh, model); !ok) {
+                          return fail(ok.error().message);
+                        }
+                        Progress progress(s->quiet);
+                        auto field = generate_field(model, s->field, progress);
+                        progress.finish();
+                        if (!field) return fail(field.error().message);
+                        return write_and_report(*field, s->out, start);
+                      }});
+}
+
+}  // namespace
+
+void add_generate_commands(CLI::App& root, std::vector<Command>& commands) {
+  CLI::App* generate = root.add_subcommand("generate", "Generate a scene: city or field");
+  generate->require_subcommand(1);
+  add_city(*generate, commands);
+  add_field(*generate, commands);
+}
+
+}  // namespace farfield::cli

@@ -1,0 +1,26 @@
+// Import of model files through assimp (OBJ, PLY, OFF, glTF/GLB, STL, DAE, 3DS, IFC and the
+// other formats assimp reads) into one Scene.
+//
+// Node transforms are applied to positions and normals; each (node, mesh) pair becomes one
+// object named after the node and the mesh; a material's diffuse colour and opacity become the
+// object's Material; vertex colours are kept when the mesh has them. Models are converted to
+// +Y up where the format says otherwise (assimp's convention is already +Y up).
+#pragma once
+
+#include <span>
+#include <string>
+
+#include "farfield/core/progress.hpp"
+#include "farfield/core/result.hpp"
+#include "farfield/scene/scene.hpp"
+
+namespace farfield {
+
+// Appends the model in `path` to `scene`. On error the scene is left as it was and the message
+// names the file and the problem (missing, empty, not a model, truncated, no triangles).
+Result<void> import_model(const std::string& path, Scene& scene);
+
+// Imports several files into one new scene, in order.
+Result<Scene> import_models(std::span<const std::string> paths, Progress& progress);
+
+}  // namespace farfield

@@ -1,0 +1,120 @@
+// Scene: a static 3D environment held as flat arrays (DESIGN.md, "Scene").
+//
+// Conventions: metres, right-handed, +Y up (the ground is the XZ plane), counter-clockwise
+// front faces. Indices are absolute into `vertices`, so the whole scene can be drawn with one
+// indexed draw. An object (the papers' "conceptual object": a building, a tree, a mesh node)
+// owns one contiguous range of indices and one contiguous range of vertices.
+//
+// Memory: 20 bytes per vertex, 12 bytes per triangle of indices, 64 bytes per object plus
+// its name; see docs/scene.md for bytes per triangle of typical scenes.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "farfield/core/bounds.hpp"
+
+namespace farfield {
+
+// What an object is; generators set it, importers use `mesh`. Stored as a byte on disk:
+// append new kinds at the end, never renumber.
+enum class ObjectKind : uint8_t {
+  mesh = 0,      // imported or otherwise unclassified geometry
+  building = 1,
+  tree = 2,
+  fountain = 3,
+  park = 4,      // one L-shaped grass strip
+  street = 5,
+  curb = 6,
+  ground = 7,    // the raised ground (sidewalk) of a block
+  count_ = 8,
+};
+
+std::string_view object_kind_name(ObjectKind kind);
+
+// Per-vertex colour modulates the material's base colour (a building's alternating floors,
+// a tree's trunk and crown), so an object keeps one material and one draw range.
+struct Vertex {
+  glm::vec3 position;  // metres
+  uint32_t normal;     // unit normal packed as GL_INT_2_10_10_10_REV (snorm x, y, z; w unused)
+  uint32_t color;      // RGBA8 unorm, R in the low byte
+};
+static_assert(sizeof(Vertex) == 20);
+
+struct Material {
+  glm::vec4 base_color{1.0f};  // linear RGB in [0,1]; alpha < 1 means semi-transparent
+  bool transparent() const { return base_color.a < 1.0f; }
+};
+static_assert(sizeof(Material) == 16);
+
+struct Object {
+  uint32_t name_offset = 0;  // into Scene::names
+  uint32_t name_size = 0;
+  ObjectKind kind = ObjectKind::mesh;
+  uint8_t reserved[3] = {0, 0, 0};
+  uint32_t material = 0;     // into Scene::materials
+  uint32_t first_index = 0;  // into Scene::indices; a multiple of 3
+  uint32_t index_count = 0;  // a multiple of 3
+  uint32_t first_vertex = 0;  // the vertices this object's indices refer to
+  uint32_t vertex_count = 0;
+  Bounds3 bounds;
+  uint32_t reserved2[2] = {0, 0};
+  uint32_t triangle_count() const { return index_count / 3; }
+};
+static_assert(sizeof(Object) == 64);
+
+struct Scene {
+  std::vector<Object> objects;
+  std::vector<Material> materials;
+  std::vector<Vertex> vertices;
+  std::vector<uint32_t> indices;
+  std::string names;  // object names, concatenated without separators
+  Bounds3 bounds;     // of all vertices
+
+  uint64_t triangle_count() const { return indices.size() / 3; }
+  std::string_view object_name(const Object& o) const {
+    return std::string_view(names).substr(o.name_offset, o.name_size);
+  }
+  // Bytes held by the arrays (not counting vector slack).
+  uint64_t byte_size() const;
+};
+
+// Unit normal <-> GL_INT_2_10_10_10_REV.
+uint32_t pack_normal(const glm::vec3& n);
+glm::vec3 unpack_normal(uint32_t packed);
+uint32_t pack_color(const glm::vec4& rgba);  // each channel clamped to [0,1]
+glm::vec4 unpack_color(uint32_t packed);
+
+// Appends objects to a scene while keeping its invariants: begin_object, then vertices and
+// triangles (indices relative to the object's first vertex), then end_object, which computes
+// the object's bounds and grows the scene's.
+class SceneBuilder {
+ public:
+  explicit SceneBuilder(Scene& scene) : scene_(scene) {}
+
+  uint32_t add_material(const Material& m);  // reuses an identical existing material
+  void begin_object(std::string_view name, ObjectKind kind, uint32_t material);
+  uint32_t add_vertex(const glm::vec3& position, const glm::vec3& normal, uint32_t color);
+  // Local vertex numbers, counted from the object's first vertex.
+  void add_triangle(uint32_t a, uint32_t b, uint32_t c);
+  uint32_t vertex_count() const;  // in the current object
+  // Finishes the object; an object without triangles is dropped.
+  void end_object();
+
+ private:
+  Scene& scene_;
+  Object current_{};
+  bool open_ = false;
+};
+
+// Checks every invariant a renderer relies on (ranges, indices, materials, names, bounds).
+// Returns a message naming the first broken one, or an empty string.
+std::string validate_scene(const Scene& scene);
+
+}  // namespace farfield

@@ -1,0 +1,40 @@
+// The .ffscene file: a Scene on disk (docs/ffscene.md gives the layout).
+//
+// Little-endian. A fixed header (magic, version, counts, bounds, a table of five sections with
+// offset, size and XXH3-64 checksum, then the header's own checksum), followed by the sections
+// (objects, materials, vertices, indices, names), each 64-byte aligned. Written atomically:
+// a temporary file in the destination's folder, flushed, then renamed over the destination.
+// Reading checks size, checksums and every scene invariant, so a truncated, corrupted or
+// hand-crafted file is refused with a message rather than trusted.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "farfield/core/result.hpp"
+#include "farfield/scene/scene.hpp"
+
+namespace farfield {
+
+inline constexpr uint32_t kSceneFileVersion = 1;
+
+struct SceneFileInfo {
+  uint32_t version = 0;
+  uint64_t file_bytes = 0;
+};
+
+Result<void> write_scene(const Scene& scene, const std::string& path);
+
+Result<Scene> read_scene(const std::string& path, SceneFileInfo* info = nullptr);
+
+// Parses a whole file held in memory; `name` is used in messages. `verify_checksums` false
+// skips only the checksum comparison (for fuzzing the structural checks behind it).
+Result<Scene> parse_scene(std::span<const std::byte> bytes, const std::string& name,
+                          bool verify_checksums = true, SceneFileInfo* info = nullptr);
+
+// True when the file starts with the .ffscene magic.
+bool is_scene_file(const std::string& path);
+
+}  // namespace farfield

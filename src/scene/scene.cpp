@@ -1,0 +1,164 @@
+#include "farfield/scene/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/geometric.hpp>
+
+#include "farfield/core/assert.hpp"
+
+namespace farfield {
+
+std::string_view object_kind_name(ObjectKind kind) {
+  switch (kind) {
+    case ObjectKind::mesh: return "mesh";
+    case ObjectKind::building: return "building";
+    case ObjectKind::tree: return "tree";
+    case ObjectKind::fountain: return "fountain";
+    case ObjectKind::park: return "park";
+    case ObjectKind::street: return "street";
+    case ObjectKind::curb: return "curb";
+    case ObjectKind::ground: return "ground";
+    case ObjectKind::count_: break;
+  }
+  return "unknown";
+}
+
+uint64_t Scene::byte_size() const {
+  return objects.size() * sizeof(Object) + materials.size() * sizeof(Material) +
+         vertices.size() * sizeof(Vertex) + indices.size() * sizeof(uint32_t) + names.size();
+}
+
+namespace {
+
+uint32_t pack_snorm10(float v) {
+  const float c = std::clamp(v, -1.0f, 1.0f);
+  const int32_t i = static_cast<int32_t>(std::lround(c * 511.0f));
+  return static_cast<uint32_t>(i) & 0x3ffu;
+}
+
+float unpack_snorm10(uint32_t bits) {
+  int32_t i = static_cast<int32_t>(bits & 0x3ffu);
+  if (i & 0x200) i -= 0x400;  // sign-extend
+  return std::max(static_cast<float>(i) / 511.0f, -1.0f);
+}
+
+uint32_t pack_unorm8(float v) {
+  return static_cast<uint32_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+}
+
+}  // namespace
+
+uint32_t pack_normal(const glm::vec3& n) {
+  return pack_snorm10(n.x) | (pack_snorm10(n.y) << 10) | (pack_snorm10(n.z) << 20);
+}
+
+glm::vec3 unpack_normal(uint32_t packed) {
+  return {unpack_snorm10(packed), unpack_snorm10(packed >> 10), unpack_snorm10(packed >> 20)};
+}
+
+uint32_t pack_color(const glm::vec4& c) {
+  return pack_unorm8(c.r) | (pack_unorm8(c.g) << 8) | (pack_unorm8(c.b) << 16) |
+         (pack_unorm8(c.a) << 24);
+}
+
+glm::vec4 unpack_color(uint32_t p) {
+  return glm::vec4(p & 0xff, (p >> 8) & 0xff, (p >> 16) & 0xff, (p >> 24) & 0xff) / 255.0f;
+}
+
+uint32_t SceneBuilder::add_material(const Material& m) {
+  auto& materials = scene_.materials;
+  for (size_t i = 0; i < materials.size(); ++i) {
+    if (materials[i].base_color == m.base_color) return static_cast<uint32_t>(i);
+  }
+  materials.push_back(m);
+  return static_cast<uint32_t>(materials.size() - 1);
+}
+
+void SceneBuilder::begin_object(std::string_view name, ObjectKind kind, uint32_t material) {
+  FF_ASSERT(!open_, "object already open while beginning '%.*s'", int(name.size()), name.data());
+  FF_ASSERT(material < scene_.materials.size(), "material %u of %zu", material,
+            scene_.materials.size());
+  FF_ASSERT(scene_.names.size() + name.size() <= UINT32_MAX, "name table full");
+  current_ = Object{};
+  current_.name_offset = static_cast<uint32_t>(scene_.names.size());
+  current_.name_size = static_cast<uint32_t>(name.size());
+  scene_.names.append(name);
+  current_.kind = kind;
+  current_.material = material;
+  current_.first_index = static_cast<uint32_t>(scene_.indices.size());
+  current_.first_vertex = static_cast<uint32_t>(scene_.vertices.size());
+  open_ = true;
+}
+
+uint32_t SceneBuilder::add_vertex(const glm::vec3& position, const glm::vec3& normal,
+                                  uint32_t color) {
+  FF_ASSERT(open_, "no object open");
+  FF_ASSERT(scene_.vertices.size() < UINT32_MAX, "more than 2^32-1 vertices");
+  scene_.vertices.push_back(Vertex{position, pack_normal(normal), color});
+  current_.bounds.expand(position);
+  return vertex_count() - 1;
+}
+
+uint32_t SceneBuilder::vertex_count() const {
+  return static_cast<uint32_t>(scene_.vertices.size()) - current_.first_vertex;
+}
+
+void SceneBuilder::add_triangle(uint32_t a, uint32_t b, uint32_t c) {
+  const uint32_t n = vertex_count();
+  FF_ASSERT(a < n && b < n && c < n, "triangle (%u,%u,%u) of an object with %u vertices", a, b,
+            c, n);
+  const uint32_t base = current_.first_vertex;
+  scene_.indices.insert(scene_.indices.end(), {base + a, base + b, base + c});
+}
+
+void SceneBuilder::end_object() {
+  FF_ASSERT(open_, "no object open");
+  open_ = false;
+  current_.index_count = static_cast<uint32_t>(scene_.indices.size()) - current_.first_index;
+  current_.vertex_count = vertex_count();
+  if (current_.index_count == 0) {  // nothing to draw: roll back the name and vertices
+    scene_.names.resize(current_.name_offset);
+    scene_.vertices.resize(current_.first_vertex);
+    return;
+  }
+  scene_.bounds.expand(current_.bounds);
+  scene_.objects.push_back(current_);
+}
+
+std::string validate_scene(const Scene& s) {
+  auto fail = [](size_t object, const char* what) {
+    return "object " + std::to_string(object) + ": " + what;
+  };
+  if (s.indices.size() % 3 != 0) return "index count is not a multiple of 3";
+  for (size_t i = 0; i < s.objects.size(); ++i) {
+    const Object& o = s.objects[i];
+    if (uint64_t(o.name_offset) + o.name_size > s.names.size()) return fail(i, "name out of range");
+    if (static_cast<uint8_t>(o.kind) >= static_cast<uint8_t>(ObjectKind::count_))
+      return fail(i, "unknown kind");
+    if (o.material >= s.materials.size()) return fail(i, "material out of range");
+    if (o.first_index % 3 != 0 || o.index_count % 3 != 0)
+      return fail(i, "index range not made of whole triangles");
+    if (uint64_t(o.first_index) + o.index_count > s.indices.size())
+      return fail(i, "index range out of range");
+    if (uint64_t(o.first_vertex) + o.vertex_count > s.vertices.size())
+      return fail(i, "vertex range out of range");
+    const uint32_t* idx = s.indices.data() + o.first_index;
+    for (uint32_t k = 0; k < o.index_count; ++k) {
+      if (idx[k] - o.first_vertex >= o.vertex_count)  // unsigned: also catches idx < first
+        return fail(i, "index outside the object's vertex range");
+    }
+  }
+  for (uint32_t index : s.indices) {
+    if (index >= s.vertices.size()) return "an index is out of the vertex range";
+  }
+  for (const Vertex& v : s.vertices) {
+    if (!std::isfinite(v.position.x) || !std::isfinite(v.position.y) ||
+        !std::isfinite(v.position.z))
+      return "a vertex position is not finite";
+  }
+  return {};
+}
+
+}  // namespace farfield

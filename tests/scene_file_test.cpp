@@ -1,0 +1,155 @@
+#include "farfield/scene/scene_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "test_util.hpp"
+
+namespace farfield {
+namespace {
+
+using test::TempDir;
+
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+TEST(SceneFile, RoundTripKeepsEverything) {
+  TempDir dir;
+  const Scene scene = test::make_box_row(7);
+  ASSERT_EQ(validate_scene(scene), "");
+  ASSERT_TRUE(write_scene(scene, dir.file("row.ffscene")));
+  SceneFileInfo info;
+  auto read = read_scene(dir.file("row.ffscene"), &info);
+  ASSERT_TRUE(read) << read.error().message;
+  EXPECT_EQ(info.version, kSceneFileVersion);
+  EXPECT_EQ(info.file_bytes, std::filesystem::file_size(dir.file("row.ffscene")));
+  EXPECT_TRUE(same_bytes(read->objects, scene.objects));
+  EXPECT_TRUE(same_bytes(read->materials, scene.materials));
+  EXPECT_TRUE(same_bytes(read->vertices, scene.vertices));
+  EXPECT_TRUE(same_bytes(read->indices, scene.indices));
+  EXPECT_EQ(read->names, scene.names);
+  EXPECT_EQ(read->bounds.min, scene.bounds.min);
+  EXPECT_EQ(read->bounds.max, scene.bounds.max);
+  EXPECT_EQ(read->object_name(read->objects[3]), "box_3");
+  // Only the destination is left: the temporary file was renamed into place.
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"row.ffscene"});
+}
+
+TEST(SceneFile, SameSceneGivesSameBytes) {
+  TempDir dir;
+  ASSERT_TRUE(write_scene(test::make_box_row(3), dir.file("a.ffscene")));
+  ASSERT_TRUE(write_scene(test::make_box_row(3), dir.file("b.ffscene")));
+  EXPECT_EQ(test::read_file(dir.file("a.ffscene")), test::read_file(dir.file("b.ffscene")));
+}
+
+TEST(SceneFile, EveryTruncationIsRefused) {
+  TempDir dir;
+  ASSERT_TRUE(write_scene(test::make_box_row(2), dir.file("full.ffscene")));
+  const std::string bytes = test::read_file(dir.file("full.ffscene"));
+  for (size_t size = 0; size < bytes.size(); size += 7) {
+    const std::string path = dir.file("cut.ffscene");
+    test::write_file(path, bytes.substr(0, size));
+    auto read = read_scene(path);
+    ASSERT_FALSE(read) << "accepted a file cut to " << size << " bytes";
+    EXPECT_NE(read.error().message.find(path), std::string::npos);
+    if (size >= 8) EXPECT_NE(read.error().message.find("truncated"), std::string::npos) << size;
+  }
+}
+
+TEST(SceneFile, EveryBitFlipIsRefused) {
+  TempDir dir;
+  ASSERT_TRUE(write_scene(test::make_box_row(2), dir.file("full.ffscene")));
+  const std::string bytes = test::read_file(dir.file("full.ffscene"));
+  for (size_t byte = 0; byte < bytes.size(); byte += 3) {
+    std::string flipped = bytes;
+    flipped[byte] = static_cast<char>(flipped[byte] ^ (1 << (byte % 8)));
+    auto parsed = parse_scene(std::as_bytes(std::span(flipped.data(), flipped.size())), "f");
+    // Padding between sections is not covered by checksums; a flip there changes nothing.
+    if (parsed) continue;
+    EXPECT_TRUE(parsed.error().message.find("corrupted") != std::string::npos ||
+                parsed.error().message.find("not a .ffscene") != std::string::npos ||
+                parsed.error().message.find("version") != std::string::npos ||
+                parsed.error().message.find("truncated") != std::string::npos)
+        << parsed.error().message;
+  }
+  // A flip in the vertex data is named as a checksum mismatch of that section.
+  std::string flipped = bytes;
+  auto read = parse_scene(std::as_bytes(std::span(flipped.data(), flipped.size())), "f");
+  ASSERT_TRUE(read);
+  flipped[flipped.size() - 64 - 50] ^= 1;  // inside a section near the end, not padding
+  read = parse_scene(std::as_bytes(std::span(flipped.data(), flipped.size())), "f");
+  ASSERT_FALSE(read);
+  EXPECT_NE(read.error().message.find("checksum mismatch"), std::string::npos)
+      << read.error().message;
+}
+
+TEST(SceneFile, MissingEmptyAndForeignFilesAreRefused) {
+  TempDir dir;
+  auto missing = read_scene(dir.file("nope.ffscene"));
+  ASSERT_FALSE(missing);
+  EXPECT_NE(missing.error().message.find("nope.ffscene"), std::string::npos);
+  test::write_file(dir.file("empty.ffscene"), "");
+  auto empty = read_scene(dir.file("empty.ffscene"));
+  ASSERT_FALSE(empty);
+  EXPECT_NE(empty.error().message.find("empty"), std::string::npos);
+  test::write_file(dir.file("text.ffscene"), std::string(300, 'x'));
+  auto text = read_scene(dir.file("text.ffscene"));
+  ASSERT_FALSE(text);
+  EXPECT_NE(text.error().message.find("not a .ffscene file"), std::string::npos);
+  auto folder = read_scene(dir.path().string());
+  ASSERT_FALSE(folder);
+}
+
+TEST(SceneFile, StructureIsCheckedBehindTheChecksums) {
+  TempDir dir;
+  ASSERT_TRUE(write_scene(test::make_box_row(2), dir.file("full.ffscene")));
+  std::string bytes = test::read_file(dir.file("full.ffscene"));
+  // The header's section table starts at byte 40: {offset, count, checksum} per section;
+  // the indices are the fourth section.
+  uint64_t index_offset;
+  std::memcpy(&index_offset, bytes.data() + 40 + 3 * 24, sizeof(index_offset));
+  const uint32_t far_away = 1000;
+  std::memcpy(bytes.data() + index_offset, &far_away, sizeof(far_away));
+  const auto span = std::as_bytes(std::span(bytes.data(), bytes.size()));
+  auto checked = parse_scene(span, "f", true);
+  ASSERT_FALSE(checked);
+  EXPECT_NE(checked.error().message.find("indices section checksum"), std::string::npos);
+  auto unchecked = parse_scene(span, "f", false);
+  ASSERT_FALSE(unchecked);
+  EXPECT_NE(unchecked.error().message.find("invalid .ffscene contents"), std::string::npos)
+      << unchecked.error().message;
+}
+
+TEST(SceneFile, InvalidSceneIsNotWritten) {
+  TempDir dir;
+  Scene scene = test::make_box_row(2);
+  scene.indices[0] = 1000;
+  EXPECT_NE(validate_scene(scene), "");
+  EXPECT_FALSE(write_scene(scene, dir.file("bad.ffscene")));
+  EXPECT_TRUE(dir.entries().empty());
+}
+
+TEST(SceneFile, FailedWriteLeavesNothing) {
+  TempDir dir;
+  auto ok = write_scene(test::make_box_row(1), dir.file("no/such/folder/x.ffscene"));
+  ASSERT_FALSE(ok);
+  EXPECT_NE(ok.error().message.find("x.ffscene"), std::string::npos);
+  EXPECT_TRUE(dir.entries().empty());
+}
+
+TEST(SceneFile, WriteReplacesAnExistingFileAtomically) {
+  TempDir dir;
+  const std::string path = dir.file("s.ffscene");
+  ASSERT_TRUE(write_scene(test::make_box_row(1), path));
+  ASSERT_TRUE(write_scene(test::make_box_row(4), path));
+  auto read = read_scene(path);
+  ASSERT_TRUE(read);
+  EXPECT_EQ(read->objects.size(), 4u);
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"s.ffscene"});
+}
+
+}  // namespace
+}  // namespace farfield

@@ -1,0 +1,96 @@
+#include "test_util.hpp"
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+namespace farfield::test {
+
+TempDir::TempDir() {
+  static std::atomic<int> counter{0};
+  path_ = std::filesystem::temp_directory_path() /
+          ("farfield-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+  std::filesystem::remove_all(path_);
+  std::filesystem::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+  std::error_code ignored;
+  std::filesystem::remove_all(path_, ignored);
+}
+
+std::vector<std::string> TempDir::entries() const {
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(path_))
+    names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+Scene make_box_row(int boxes) {
+  Scene scene;
+  SceneBuilder b(scene);
+  const uint32_t opaque = b.add_material(Material{{0.8f, 0.2f, 0.1f, 1.0f}});
+  const uint32_t glass = b.add_material(Material{{0.5f, 0.7f, 1.0f, 0.5f}});
+  for (int i = 0; i < boxes; ++i) {
+    b.begin_object("box_" + std::to_string(i), i % 5 == 0 ? ObjectKind::building : ObjectKind::mesh,
+                   i % 2 ? glass : opaque);
+    const glm::vec3 o(2.0f * i, 0.0f, 0.0f);
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int sign = -1; sign <= 1; sign += 2) {
+        glm::vec3 n(0.0f);
+        n[axis] = float(sign);
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        const uint32_t first = b.vertex_count();
+        for (int corner = 0; corner < 4; ++corner) {
+          glm::vec3 p(0.5f);
+          p[axis] = 0.5f + 0.5f * sign;
+          p[u] = float(corner & 1);
+          p[v] = float((corner >> 1) & 1);
+          b.add_vertex(o + p, n, 0xffffffffu);
+        }
+        if (sign > 0) {
+          b.add_triangle(first, first + 1, first + 3);
+          b.add_triangle(first, first + 3, first + 2);
+        } else {
+          b.add_triangle(first, first + 3, first + 1);
+          b.add_triangle(first, first + 2, first + 3);
+        }
+      }
+    }
+    b.end_object();
+  }
+  return scene;
+}
+
+CommandResult run_farfield(const std::string& args) {
+  const std::string command = std::string(FARFIELD_EXE) + " " + args + " 2>&1";
+  CommandResult result;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return result;
+  std::array<char, 4096> buffer;
+  size_t n;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return result;
+}
+
+void write_file(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace farfield::test

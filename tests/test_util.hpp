@@ -1,0 +1,38 @@
+// Shared test helpers: a temporary folder per test, small hand-made scenes, running the CLI.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "farfield/scene/scene.hpp"
+
+namespace farfield::test {
+
+// A fresh empty folder, removed with everything in it on destruction.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  const std::filesystem::path& path() const { return path_; }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+  // Names of the entries in the folder, sorted.
+  std::vector<std::string> entries() const;
+
+ private:
+  std::filesystem::path path_;
+};
+
+// `boxes` unit cubes along X, one object each, alternating an opaque and a transparent material.
+Scene make_box_row(int boxes);
+
+struct CommandResult {
+  int exit_status = -1;
+  std::string output;  // stdout and stderr together
+};
+// Runs the farfield executable with `args` (shell-quoted by the caller).
+CommandResult run_farfield(const std::string& args);
+
+void write_file(const std::string& path, const std::string& bytes);
+std::string read_file(const std::string& path);
+
+}  // namespace farfield::test
