@@ -29,8 +29,9 @@ struct CommandResult {
   int exit_status = -1;
   std::string output;  // stdout and stderr together
 };
-// Runs the farfield executable with `args` (shell-quoted by the caller).
-CommandResult run_farfield(const std::string& args);
+// Runs the farfield executable with `args` (shell-quoted by the caller), in folder `cwd` when
+// one is given.
+CommandResult run_farfield(const std::string& args, const std::string& cwd = "");
 
 void write_file(const std::string& path, const std::string& bytes);
 std::string read_file(const std::string& path);

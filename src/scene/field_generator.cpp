@@ -17,7 +17,7 @@ Result<void> validate_field_options(const FieldOptions& o) {
 Result<Scene> generate_field(const Scene& model, const FieldOptions& o, Progress& progress) {
   if (auto ok = validate_field_options(o); !ok) return ok.error();
   if (model.triangle_count() == 0) return make_error("the model has no triangles");
-  if (o.count * model.vertices.size() >= UINT32_MAX || o.count * model.indices.size() >= UINT32_MAX)
+  if (o.count >= UINT32_MAX || o.count * model.vertices.size() >= UINT32_MAX || o.count * model.indices.size() >= UINT32_MAX)
     return make_error("--count ", std::to_string(o.count), " copies of a model of ",
                       std::to_string(model.triangle_count()),
                       " triangles exceed 2^32 vertices or indices");
