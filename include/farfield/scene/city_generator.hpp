@@ -5,6 +5,25 @@
 // Deterministic: the same options give the same scene, byte for byte, on every run; each
 // block draws from its own random stream (seed, block row, block column), so growing the grid
 // keeps the existing blocks unchanged.
+//
+// Layout: +Y up, the city spans [0, blocks_x * (block_length + street_width) + street_width]
+// along X (Z likewise), streets on the outside too. Block (i, j) starts at
+// x = street_width + i * (block_length + street_width). Street tops are at street_height, curb
+// and block ground tops at street_height + curb_height; building tops stay under max_height.
+//
+// Objects, one per thing, named for people and scripts:
+//   crossing_I_J, street_x_I_J, street_z_I_J     kind street: the crossing at the -X -Z corner
+//                                                of block (I, J), the streets from it along X
+//                                                and along Z to the next crossings
+//   block_I_J/curb_K (K < 4)                     kind curb
+//   block_I_J/ground                             kind ground
+//   block_I_J/building_K, /fountain_K, /tree_K   kinds building, fountain, tree
+//   block_I_J/park_K_C (C < 4: its L strips)     kind park
+// Semi-transparent buildings use a material of base colour (1, 1, 1, 0.5); everything else is
+// opaque white and takes its colours from the vertices.
+//
+// Cost: the default city (8 x 8 blocks, about 1 km square) has about 1.2M triangles and is
+// generated in about 0.1 s; 10M triangles take about 1.5 s and 0.5 GB, on one core.
 #pragma once
 
 #include <cstdint>
@@ -32,14 +51,17 @@ struct CityOptions {                 // paper 000, App. A: the generator's param
   double tree_block_fraction = 0.6;  // chance that a block is lined with trees
   uint64_t seed = 1;
   // 0: use blocks_x x blocks_z. Otherwise the grid grows (square, keeping block sizes and
-  // detail) until the city has at least this many triangles.
+  // detail, ignoring blocks_x and blocks_z) from 1 x 1 until the city has at least this many
+  // triangles; at most 1e9.
   uint64_t target_triangles = 0;
 };
 
 // Checks the options; the message names the option and the problem.
 Result<void> validate_city_options(const CityOptions& options);
 
-// Generates the city into a new scene. Reports progress per block.
+// Generates the city into a new scene: sizes it block by block ("size city"), then writes it
+// ("generate city", progress per block). Fails on bad options, or when the city would not fit
+// the 2^32 vertices and indices of a scene.
 Result<Scene> generate_city(const CityOptions& options, Progress& progress);
 
 }  // namespace farfield
