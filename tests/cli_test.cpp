@@ -119,7 +119,9 @@ TEST(Cli, GenerateRejectsAbsurdOptionsAndWritesNothing) {
         "city --max-height 0", "city --target-triangles 999999999999999",
         "field --mesh missing.obj --count 4", "field --count 0 --mesh M",
         "field --spacing -1 --mesh M"}) {
-    std::string args = std::string("generate ") + options + " --out " + quoted(dir.file("x.ffscene"));
+    std::string args = "generate ";
+    args += options;
+    args += " --out " + quoted(dir.file("x.ffscene"));
     const size_t m = args.find(" M ");
     if (m != std::string::npos) args.replace(m, 3, " " + quoted(dir.file("x.ffscene")) + " ");
     auto r = run_farfield(args);

@@ -55,7 +55,9 @@ TEST(SceneFile, EveryTruncationIsRefused) {
     auto read = read_scene(path);
     ASSERT_FALSE(read) << "accepted a file cut to " << size << " bytes";
     EXPECT_NE(read.error().message.find(path), std::string::npos);
-    if (size >= 8) EXPECT_NE(read.error().message.find("truncated"), std::string::npos) << size;
+    if (size >= 8) {
+      EXPECT_NE(read.error().message.find("truncated"), std::string::npos) << size;
+    }
   }
 }
 

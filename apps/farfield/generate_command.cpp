@@ -27,6 +27,7 @@ void add_city(CLI::App& generate, std::vector<Command>& commands) {
   struct Settings {
     CityOptions city;
     uint32_t blocks = 0;
+    CLI::Option* blocks_option = nullptr;
     std::string out;
     bool quiet = false;
   };
@@ -51,7 +52,7 @@ void add_city(CLI::App& generate, std::vector<Command>& commands) {
   cmd->add_option("--rows", c.rows, "Maximum rows of buildings per block")->capture_default_str();
   cmd->add_option("--columns", c.columns, "Maximum columns of buildings per block")
       ->capture_default_str();
-  cmd->add_option("--blocks", s->blocks, "Blocks in each dimension (sets --blocks-x and --blocks-z)");
+  s->blocks_option = cmd->add_option("--blocks", s->blocks, "Blocks in each dimension (sets --blocks-x and --blocks-z)");
   cmd->add_option("--blocks-x", c.blocks_x, "Blocks along X")->capture_default_str();
   cmd->add_option("--blocks-z", c.blocks_z, "Blocks along Z")->capture_default_str();
   cmd->add_option("--street-width", c.street_width, "Street width, m")->capture_default_str();
@@ -70,7 +71,7 @@ void add_city(CLI::App& generate, std::vector<Command>& commands) {
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
   commands.push_back({cmd, [s] {
                         const auto start = std::chrono::steady_clock::now();
-                        if (s->blocks) s->city.blocks_x = s->city.blocks_z = s->blocks;
+                        if (s->blocks_option->count()) s->city.blocks_x = s->city.blocks_z = s->blocks;
                         Progress progress(s->quiet);
                         auto scene = generate_city(s->city, progress);
                         progress.finish();

@@ -175,10 +175,9 @@ Result<void> write_scene(const Scene& scene, const std::string& path) {
   // The temporary file sits beside the destination so that rename() is atomic.
   const std::filesystem::path target(path);
   std::filesystem::path tmp_path = target.parent_path().empty() ? "." : target.parent_path();
-  std::string tmp_name = target.filename().string();
-  tmp_name.insert(0, ".");
-  tmp_name.append(".XXXXXX.tmp");
-  std::string tmp = (tmp_path / tmp_name).string();
+  std::string tmp = (tmp_path / ".").string();  // "DIR/." then the hidden name after the dot
+  tmp.append(target.filename().string());
+  tmp.append(".XXXXXX.tmp");
   const int fd = ::mkstemps(tmp.data(), 4);
   if (fd < 0) return io_error(path, "cannot create a temporary file beside it");
   ::fchmod(fd, 0644);
