@@ -15,7 +15,7 @@ void Progress::start(std::string task, uint64_t total) {
   task_ = std::move(task);
   total_ = total;
   done_ = 0;
-  last_decile_ = -1;
+  printed_ = false;
   active_ = true;
   start_ = last_print_ = std::chrono::steady_clock::now();
 }
@@ -30,27 +30,23 @@ void Progress::finish() {
   done_ = total_;
   print(true);
   active_ = false;
-  if (!quiet_ && terminal_) std::fputc('\n', stderr);
+  if (printed_ && terminal_) std::fputc('\n', stderr);
 }
 
 void Progress::print(bool force) {
   if (quiet_ || !active_) return;
   const auto now = std::chrono::steady_clock::now();
+  // Short tasks stay silent; long ones report every 0.2 s on a terminal, every 2 s in a log.
+  const auto interval = std::chrono::milliseconds(terminal_ ? 200 : 2000);
+  if (now - last_print_ < interval && !(force && printed_)) return;
   const int percent = total_ ? static_cast<int>(100 * done_ / total_) : 100;
   const double seconds = std::chrono::duration<double>(now - start_).count();
-  if (terminal_) {
-    if (!force && now - last_print_ < std::chrono::milliseconds(200)) return;
-    std::fprintf(stderr, "\r%s: %3d%% (%llu/%llu) %.1f s", task_.c_str(), percent,
-                 static_cast<unsigned long long>(done_), static_cast<unsigned long long>(total_),
-                 seconds);
-  } else {
-    const int decile = percent / 10;
-    if (decile == last_decile_) return;
-    last_decile_ = decile;
-    std::fprintf(stderr, "%s: %d%% %.1f s\n", task_.c_str(), percent, seconds);
-  }
+  std::fprintf(stderr, "%s%s: %3d%% (%llu/%llu) %.1f s%s", terminal_ ? "\r" : "", task_.c_str(),
+               percent, static_cast<unsigned long long>(done_),
+               static_cast<unsigned long long>(total_), seconds, terminal_ ? "" : "\n");
   std::fflush(stderr);
   last_print_ = now;
+  printed_ = true;
 }
 
 }  // namespace farfield

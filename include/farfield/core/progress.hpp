@@ -1,5 +1,6 @@
-// Progress of long work, shown on stderr: a rewritten line on a terminal, a line every 10%
-// otherwise (logs, CI). Quiet mode shows nothing. Not thread-safe: report from one thread.
+// Progress of long work, shown on stderr: a line rewritten every 0.2 s on a terminal, a new
+// line every 2 s otherwise (logs, CI); work shorter than that shows nothing. Quiet mode shows
+// nothing. Not thread-safe: report from one thread.
 #pragma once
 
 #include <chrono>
@@ -22,8 +23,7 @@ class Progress {
 
   std::string task_;
   uint64_t total_ = 0, done_ = 0;
-  int last_decile_ = -1;
-  bool quiet_, terminal_, active_ = false;
+  bool quiet_, terminal_, active_ = false, printed_ = false;
   std::chrono::steady_clock::time_point start_, last_print_;
 };
 
