@@ -6,7 +6,9 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config ninja-build
   libassimp-dev assimp-utils assimp-testmodels
-  libcli11-dev libglm-dev libxxhash-dev
+  libcli11-dev libglm-dev libxxhash-dev nlohmann-json3-dev libpng-dev
+  libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev
+  python3-matplotlib xvfb xauth
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev
 )

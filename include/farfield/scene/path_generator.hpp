@@ -1,0 +1,28 @@
+// Camera paths through a scene, deterministic for the same scene and options.
+//   street: at eye height (1.7 m above the street surface) along the centre lines of the
+//           scene's street objects, turning at crossings, never leaving the streets (so never
+//           through a building); needs street objects (a generated city).
+//   fly:    a loop above the roofs, looking ahead and down.
+//   orbit:  a circle around the scene, looking at its centre.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "farfield/core/camera_path.hpp"
+#include "farfield/core/result.hpp"
+#include "farfield/scene/scene.hpp"
+
+namespace farfield {
+
+struct PathOptions {
+  std::string kind = "street";  // street | fly | orbit
+  uint32_t frames = 300;
+  double speed = 0.0;     // metres per frame; 0 picks the kind's default
+  uint64_t seed = 1;      // turn choices of the street walk
+  double eye_height = 1.7;  // metres above the street, street paths
+};
+
+Result<CameraPath> generate_path(const Scene& scene, const PathOptions& options);
+
+}  // namespace farfield
