@@ -1,0 +1,45 @@
+// The one interface every rendering technique implements (DESIGN.md). A technique prepares
+// itself once for a scene (load), then selects what to draw for each view (select): pure CPU,
+// no GL, no allocation in steady state, so it can be tested without a GPU and timed apart
+// from drawing. Baking into a store arrives with the first technique that needs one.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "farfield/core/result.hpp"
+#include "farfield/core/view.hpp"
+#include "farfield/scene/scene.hpp"
+#include "farfield/techniques/draw_list.hpp"
+
+namespace farfield {
+
+struct FrameBudget {
+  double frame_ms = 0.0;  // target frame time; 0 = no budget (techniques that ignore it)
+};
+
+class Technique {
+ public:
+  virtual ~Technique() = default;
+  virtual std::string_view name() const = 0;
+  // Builds the technique's run-time structures for `scene`, which must outlive it.
+  virtual Result<void> load(const Scene& scene) = 0;
+  // Every frame; `out` is cleared first and its capacity reused.
+  virtual void select(const View& view, const FrameBudget& budget, DrawList& out) = 0;
+  // One line on what load built (nodes, depth, ...), for reports.
+  virtual std::string describe() const { return {}; }
+};
+
+// The techniques this build knows, with a line each for --help.
+struct TechniqueInfo {
+  std::string_view name;
+  std::string_view summary;
+};
+std::span<const TechniqueInfo> known_techniques();
+
+// A new technique by name; an unknown name is an error that lists the known ones.
+Result<std::unique_ptr<Technique>> make_technique(std::string_view name);
+
+}  // namespace farfield
