@@ -1,0 +1,64 @@
+// farfield bench SCENE --path path.json --technique brute,octree --out DIR
+#include <cstdio>
+
+#include "commands.hpp"
+#include "farfield/core/camera_path.hpp"
+#include "farfield/eval/bench.hpp"
+#include "farfield/scene/scene_file.hpp"
+#include "farfield/techniques/technique.hpp"
+
+namespace farfield::cli {
+
+void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
+  struct Settings {
+    BenchOptions bench;
+    std::string path;
+    std::vector<std::string> techniques{"brute", "octree"};
+    bool quiet = false, no_plot = false;
+  };
+  auto s = std::make_shared<Settings>();
+  std::string technique_help = "Techniques to compare, comma-separated; brute always runs first "
+                               "as the reference. 'raw' adds the protocol's bound (every triangle "
+                               "in one draw). Known:";
+  for (const TechniqueInfo& t : known_techniques())
+    technique_help += "\n  " + std::string(t.name) + ": " + std::string(t.summary);
+  CLI::App* cmd = root.add_subcommand(
+      "bench", "Play a camera path headless for each technique; write DIR/bench.json, sample "
+               "frames, difference images against brute and a frame-time plot");
+  cmd->add_option("scene", s->bench.scene_file, "A .ffscene file")->required();
+  cmd->add_option("--path", s->path, "Camera path (farfield path ... --out path.json)")->required();
+  cmd->add_option("--technique,-t", s->techniques, technique_help)
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--width", s->bench.width, "Image width, pixels")->capture_default_str();
+  cmd->add_option("--height", s->bench.height, "Image height, pixels")->capture_default_str();
+  cmd->add_option("--hfov", s->bench.hfov_deg, "Horizontal field of view, degrees")
+      ->capture_default_str();
+  cmd->add_option("--warmup", s->bench.warmup_frames, "Untimed frames drawn first")
+      ->capture_default_str();
+  cmd->add_option("--reference-every", s->bench.reference_every,
+                  "Compare with brute every N frames (0: sample frames only)")
+      ->capture_default_str();
+  cmd->add_option("--samples", s->bench.sample_images, "Frames saved as PNG per technique")
+      ->capture_default_str();
+  cmd->add_flag("--no-plot", s->no_plot, "Skip the frame-time plot (needs python3-matplotlib)");
+  cmd->add_option("--out,-o", s->bench.out_dir, "Output folder")->required();
+  cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
+  commands.push_back({cmd, [s] {
+                        s->bench.techniques = s->techniques;
+                        s->bench.plot = !s->no_plot;
+                        auto path = read_camera_path(s->path);
+                        if (!path) return fail(path.error().message);
+                        auto scene = read_scene(s->bench.scene_file);
+                        if (!scene) return fail(scene.error().message);
+                        Progress progress(s->quiet);
+                        auto report = run_bench(*scene, *path, s->bench, progress);
+                        progress.finish();
+                        if (!report) return fail(report.error().message);
+                        std::fputs(format_bench_summary(*report).c_str(), stdout);
+                        std::printf("report: %s/bench.json\n", s->bench.out_dir.c_str());
+                        return 0;
+                      }});
+}
+
+}  // namespace farfield::cli

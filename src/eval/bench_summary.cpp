@@ -1,0 +1,67 @@
+#include "bench_summary.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace farfield {
+
+namespace {
+
+// Nearest-rank percentile of sorted values.
+double percentile(const std::vector<double>& sorted, double p) {
+  if (sorted.empty()) return 0.0;
+  const size_t rank = static_cast<size_t>(std::ceil(p / 100.0 * double(sorted.size())));
+  return sorted[std::clamp<size_t>(rank, 1, sorted.size()) - 1];
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  if (v.empty()) return 0.0;
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute) {
+  BenchSummary s;
+  const size_t n = t.frames.size();
+  if (n == 0) return s;
+  std::vector<double> ms;
+  double psnr_sum = 0;
+  uint32_t psnr_count = 0;
+  s.psnr_db_min = std::numeric_limits<double>::infinity();
+  for (const FrameRecord& f : t.frames) {
+    ms.push_back(f.frame_ms);
+    s.mean_ms += f.frame_ms / double(n);
+    s.mean_triangles += double(f.triangles) / double(n);
+    s.mean_draw_calls += double(f.draw_calls) / double(n);
+    if (!f.compared) continue;
+    s.compared_frames++;
+    if (f.differing_pixels == 0) {
+      s.identical_frames++;
+      continue;
+    }
+    psnr_sum += f.psnr_db;
+    psnr_count++;
+    s.psnr_db_min = std::min(s.psnr_db_min, f.psnr_db);
+  }
+  s.psnr_db_mean = psnr_count ? psnr_sum / psnr_count : std::numeric_limits<double>::infinity();
+  std::sort(ms.begin(), ms.end());
+  s.median_ms = median(ms);
+  s.p95_ms = percentile(ms, 95);
+  s.p99_ms = percentile(ms, 99);
+  s.max_ms = ms.back();
+  if (brute && brute != &t && brute->frames.size() == n) {
+    BenchSummary b = summarize(*brute, nullptr);
+    s.median_ratio_to_brute = b.median_ms > 0 ? s.median_ms / b.median_ms : 0;
+    s.triangle_ratio_to_brute = b.mean_triangles > 0 ? s.mean_triangles / b.mean_triangles : 0;
+    uint32_t slower = 0;
+    for (size_t i = 0; i < n; ++i) slower += t.frames[i].frame_ms > 1.1 * brute->frames[i].frame_ms;
+    s.frames_slower_than_brute_1_1x = double(slower) / double(n);
+  }
+  return s;
+}
+
+}  // namespace farfield

@@ -1,0 +1,21 @@
+// Statistics of one technique's frames, against brute where it has frames of the same path.
+#pragma once
+
+#include "farfield/eval/bench.hpp"
+
+namespace farfield {
+
+struct BenchSummary {
+  double median_ms = 0, p95_ms = 0, p99_ms = 0, max_ms = 0, mean_ms = 0;
+  double mean_triangles = 0, mean_draw_calls = 0;
+  uint32_t compared_frames = 0, identical_frames = 0;
+  double psnr_db_mean = 0, psnr_db_min = 0;  // over compared frames that differ
+  // Against brute, frame by frame (0 for brute itself).
+  double median_ratio_to_brute = 0;       // median(this) / median(brute)
+  double triangle_ratio_to_brute = 0;     // mean triangles / brute's
+  double frames_slower_than_brute_1_1x = 0;  // fraction with frame_ms > 1.1 x brute's
+};
+
+BenchSummary summarize(const TechniqueRecord& technique, const TechniqueRecord* brute);
+
+}  // namespace farfield
