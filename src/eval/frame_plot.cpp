@@ -8,7 +8,7 @@ namespace farfield {
 
 namespace {
 
-// Fed to `python3 -` on stdin, so the binary needs no script installed beside it.
+// Fed to Debian's `/usr/bin/python3 -` (python3-matplotlib) on stdin, so the binary needs no script installed beside it.
 constexpr const char* kScript = R"PY(
 import json, sys
 import matplotlib
@@ -40,7 +40,7 @@ std::string shell_quote(const std::string& s) {
 
 Result<void> plot_frame_times(const std::string& json_path, const std::string& png_path) {
   const std::string command =
-      "python3 - " + shell_quote(json_path) + " " + shell_quote(png_path) + " 2>&1";
+      "/usr/bin/python3 - " + shell_quote(json_path) + " " + shell_quote(png_path) + " 2>&1";
   FILE* pipe = ::popen(command.c_str(), "w");
   if (!pipe) return make_error(png_path, ": cannot start python3 for the plot");
   std::fputs(kScript, pipe);

@@ -1,0 +1,217 @@
+// farfield view SCENE: a window to walk through a scene (paper 000, Sec. 5.1), switching
+// technique at run time, with frame time, triangles and draw calls on screen.
+#include <chrono>
+#include <cstdio>
+
+#include <epoxy/gl.h>  // before GLFW, which would include the system GL header
+#include <GLFW/glfw3.h>
+#include <glm/trigonometric.hpp>
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#include "commands.hpp"
+#include "farfield/core/camera_path.hpp"
+#include "farfield/core/navigation.hpp"
+#include "farfield/gpu/renderer.hpp"
+#include "farfield/gpu/window.hpp"
+#include "farfield/scene/scene_file.hpp"
+#include "farfield/techniques/technique.hpp"
+
+namespace farfield::cli {
+
+namespace {
+
+struct ViewSettings {
+  std::string scene, path, technique = "octree", screenshot, record;
+  int width = 1024, height = 768, frames = 0;
+  float hfov_deg = 90.0f;
+};
+
+NavigationInput keys_to_input(const gpu::Window& w) {
+  auto axis = [&](int plus_a, int plus_b, int minus_a, int minus_b) {
+    return float(w.key_down(plus_a) || w.key_down(plus_b)) -
+           float(w.key_down(minus_a) || w.key_down(minus_b));
+  };
+  NavigationInput in;
+  in.forward = axis(GLFW_KEY_W, GLFW_KEY_UP, GLFW_KEY_S, GLFW_KEY_DOWN);
+  in.turn = axis(GLFW_KEY_D, GLFW_KEY_RIGHT, GLFW_KEY_A, GLFW_KEY_LEFT);
+  in.climb = axis(GLFW_KEY_E, GLFW_KEY_PAGE_UP, GLFW_KEY_Q, GLFW_KEY_PAGE_DOWN);
+  in.look = axis(GLFW_KEY_R, GLFW_KEY_HOME, GLFW_KEY_F, GLFW_KEY_END);
+  in.fast = w.key_down(GLFW_KEY_LEFT_SHIFT) || w.key_down(GLFW_KEY_RIGHT_SHIFT);
+  return in;
+}
+
+// Without a path: at a corner of the scene, a third of its size up, looking at its centre.
+CameraPose overview_pose(const Scene& scene) {
+  const glm::vec3 size = scene.bounds.size(), centre = scene.bounds.center();
+  CameraPose p;
+  p.position = {scene.bounds.min.x - 0.1f * size.x,
+                scene.bounds.min.y + 0.35f * std::max(size.x, size.z),
+                scene.bounds.min.z - 0.1f * size.z};
+  const glm::vec3 d = centre - p.position;
+  p.yaw_deg = glm::degrees(std::atan2(d.z, d.x));
+  p.pitch_deg = glm::degrees(std::atan2(d.y, std::sqrt(d.x * d.x + d.z * d.z)));
+  return p;
+}
+
+int run_viewer(const ViewSettings& s) {
+  auto scene = read_scene(s.scene);
+  if (!scene) return fail(scene.error().message);
+  CameraPath path;
+  if (!s.path.empty()) {
+    auto read = read_camera_path(s.path);
+    if (!read) return fail(read.error().message);
+    path = std::move(*read);
+  }
+  std::vector<std::unique_ptr<Technique>> techniques;
+  size_t current = 0;
+  for (const TechniqueInfo& info : known_techniques()) {
+    auto t = make_technique(info.name);
+    if (!t) return fail(t.error().message);
+    if (auto ok = (*t)->load(*scene); !ok) return fail(ok.error().message);
+    if (info.name == s.technique) current = techniques.size();
+    techniques.push_back(std::move(*t));
+  }
+  if (techniques[current]->name() != s.technique)
+    return fail(make_technique(s.technique).error().message);
+
+  auto window = gpu::Window::create(s.width, s.height, "farfield: " + s.scene);
+  if (!window) return fail(window.error().message);
+  auto renderer = gpu::Renderer::create(*scene);
+  if (!renderer) return fail(renderer.error().message);
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;
+  ImGui_ImplGlfw_InitForOpenGL((*window)->handle(), true);
+  ImGui_ImplOpenGL3_Init("#version 450");
+
+  CameraPath recorded{"recorded", s.scene, {}};
+  CameraPose pose = path.frames.empty() ? overview_pose(*scene) : path.frames.front();
+  bool playing = !path.frames.empty();
+  size_t path_frame = 0;
+  int frame = 0;
+  bool tab_was_down = false, p_was_down = false;
+  double smoothed_ms = 0.0;
+  DrawList list;
+  gpu::FrameStats stats;
+  auto last = std::chrono::steady_clock::now();
+  int exit_status = 0;
+  while (!(*window)->should_close()) {
+    (*window)->poll_events();
+    const auto now = std::chrono::steady_clock::now();
+    const float dt = std::min(std::chrono::duration<float>(now - last).count(), 0.25f);
+    last = now;
+    gpu::Window& w = **window;
+    if (w.key_down(GLFW_KEY_ESCAPE)) w.close();
+    const bool typing = ImGui::GetIO().WantCaptureKeyboard;
+    const bool tab = w.key_down(GLFW_KEY_TAB), p = w.key_down(GLFW_KEY_P);
+    if (tab && !tab_was_down && !typing) current = (current + 1) % techniques.size();
+    if (p && !p_was_down && !typing && !path.frames.empty()) playing = !playing;
+    tab_was_down = tab;
+    p_was_down = p;
+    for (int k = 0; k < 9 && !typing; ++k)
+      if (w.key_down(GLFW_KEY_1 + k) && size_t(k) < techniques.size()) current = size_t(k);
+
+    if (playing) {
+      pose = path.frames[path_frame];
+      path_frame = (path_frame + 1) % path.frames.size();
+    } else if (!typing) {
+      pose = navigate(pose, keys_to_input(w), NavigationSpeeds{}, dt);
+    }
+    if (!s.record.empty()) recorded.frames.push_back(pose);
+
+    View view;
+    view.pose = pose;
+    w.framebuffer_size(view.width, view.height);
+    view.hfov_deg = s.hfov_deg;
+    const auto start = std::chrono::steady_clock::now();
+    techniques[current]->select(view, FrameBudget{}, list);
+    stats = (*renderer)->draw(view, list);
+    glFinish();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    smoothed_ms = frame == 0 ? ms : 0.9 * smoothed_ms + 0.1 * ms;
+
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
+    ImGui::SetNextWindowBgAlpha(0.6f);
+    ImGui::Begin("farfield", nullptr,
+                 ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove |
+                     ImGuiWindowFlags_NoSavedSettings);
+    int selected = int(current);
+    for (size_t t = 0; t < techniques.size(); ++t) {
+      const std::string label = std::to_string(t + 1) + " " + std::string(techniques[t]->name());
+      if (ImGui::RadioButton(label.c_str(), selected == int(t))) selected = int(t);
+      if (t + 1 < techniques.size()) ImGui::SameLine();
+    }
+    current = size_t(selected);
+    ImGui::Text("frame %.1f ms (%.0f fps)   gpu %.1f ms", smoothed_ms, 1000.0 / smoothed_ms,
+                stats.gpu_ms);
+    ImGui::Text("triangles %llu   draw calls %llu", (unsigned long long)stats.triangles,
+                (unsigned long long)stats.draw_calls);
+    ImGui::Text("at (%.1f, %.1f, %.1f)  heading %.0f  pitch %.0f", pose.position.x,
+                pose.position.y, pose.position.z, pose.yaw_deg, pose.pitch_deg);
+    if (!path.frames.empty())
+      ImGui::Text("path %s: frame %zu of %zu (P: %s)", path.kind.c_str(), path_frame,
+                  path.frames.size(), playing ? "pause" : "play");
+    ImGui::TextDisabled("W/S move  A/D turn  E/Q up/down  R/F look  Shift fast  Tab/1-9 technique");
+    ImGui::End();
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+
+    ++frame;
+    if (!s.screenshot.empty() && frame >= std::max(s.frames, 1)) {
+      if (auto ok = write_png((*renderer)->capture(), s.screenshot); !ok) {
+        exit_status = fail(ok.error().message);
+      } else {
+        std::printf("wrote %s after %d frames (%s, %.1f ms, %llu triangles)\n",
+                    s.screenshot.c_str(), frame, std::string(techniques[current]->name()).c_str(),
+                    smoothed_ms, (unsigned long long)stats.triangles);
+      }
+      w.close();
+    } else if (s.screenshot.empty() && s.frames > 0 && frame >= s.frames) {
+      w.close();
+    }
+    w.swap_buffers();
+  }
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  if (!s.record.empty() && exit_status == 0) {
+    if (auto ok = write_camera_path(recorded, s.record); !ok) return fail(ok.error().message);
+    std::printf("recorded %zu frames into %s\n", recorded.frames.size(), s.record.c_str());
+  }
+  return exit_status;
+}
+
+}  // namespace
+
+void add_view_command(CLI::App& root, std::vector<Command>& commands) {
+  auto s = std::make_shared<ViewSettings>();
+  CLI::App* cmd = root.add_subcommand(
+      "view", "Walk through a scene in a window. Keys: W/S or arrows forward/back, A/D turn, "
+              "E/Q or PageUp/PageDown ascend/descend, R/F look up/down, Shift faster, Tab or 1-9 "
+              "switch technique, P play/pause the path, Esc quit");
+  cmd->add_option("scene", s->scene, "A .ffscene file")->required();
+  cmd->add_option("--path", s->path, "Camera path to play (P pauses and resumes)");
+  cmd->add_option("--technique,-t", s->technique, "Technique at start")->capture_default_str();
+  cmd->add_option("--width", s->width, "Window width, pixels")->capture_default_str()
+      ->check(CLI::Range(64, 16384));
+  cmd->add_option("--height", s->height, "Window height, pixels")->capture_default_str()
+      ->check(CLI::Range(64, 16384));
+  cmd->add_option("--hfov", s->hfov_deg, "Horizontal field of view, degrees")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0f, 179.0f));
+  cmd->add_option("--frames", s->frames, "Quit after this many frames (0: run until closed)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--screenshot", s->screenshot,
+                  "Save the window (with its overlay) as PNG after --frames frames, then quit");
+  cmd->add_option("--record", s->record, "Write the poses of the session as a camera path on exit");
+  commands.push_back({cmd, [s] { return run_viewer(*s); }});
+}
+
+}  // namespace farfield::cli
