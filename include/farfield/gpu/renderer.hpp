@@ -19,7 +19,8 @@
 namespace farfield::gpu {
 
 struct FrameStats {
-  double gpu_ms = 0.0;        // GL_TIME_ELAPSED of the frame's draws (0 if unavailable)
+  double gpu_ms = 0.0;        // GL timestamps around the frame's draws (0 if unavailable);
+                              // on llvmpipe they see only part of the work: quote frame_ms
   uint64_t triangles = 0;     // submitted
   uint64_t draw_calls = 0;    // draw commands submitted
 };

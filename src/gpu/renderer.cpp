@@ -1,0 +1,301 @@
+#include "farfield/gpu/renderer.hpp"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "farfield/core/assert.hpp"
+#include "shaders.hpp"
+
+namespace farfield::gpu {
+
+namespace {
+
+// Paper 000, Sec. 5.3: two directional lights opposite each other in heading, 14 degrees
+// above the horizon, so that every vertical face is lit by one of them; ambient keeps the
+// faces turned away from both (roofs' undersides) readable.
+constexpr float kLightElevationDeg = 14.0f;
+constexpr float kLightHeadingDeg = 30.0f;  // View's convention: 0 = +X, 90 = +Z; the other at +180
+constexpr float kLightWeight = 0.55f;      // diffuse weight of each light
+constexpr float kAmbient = 0.35f;
+constexpr float kSkyColor[4] = {0.70f, 0.78f, 0.85f, 1.0f};  // light blue-grey, linear RGB
+
+// DrawElementsIndirectCommand as the GL reads it from the indirect buffer.
+struct DrawCommand {
+  GLuint count;
+  GLuint instance_count;
+  GLuint first_index;
+  GLint base_vertex;
+  GLuint base_instance;  // the material: selects the instanced material colour
+};
+static_assert(sizeof(DrawCommand) == 20);
+
+// Immutable storage; an error message when the GL cannot allocate it.
+Result<void> make_buffer(GLuint& buffer, const char* what, size_t bytes, const void* data,
+                         GLbitfield flags) {
+  glCreateBuffers(1, &buffer);
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  // Zero-sized storage is invalid in GL; an empty scene gets a placeholder.
+  glNamedBufferStorage(buffer, GLsizeiptr(std::max<size_t>(bytes, 4)), bytes ? data : nullptr,
+                       flags);
+  if (const GLenum error = glGetError(); error != GL_NO_ERROR)
+    return make_error("cannot allocate ", std::to_string(bytes), " bytes of GPU memory for the ",
+                      what, error == GL_OUT_OF_MEMORY ? " (out of memory)" : "");
+  return {};
+}
+
+}  // namespace
+
+struct Renderer::State {
+  GLuint vertex_buffer = 0, index_buffer = 0, material_buffer = 0, indirect_buffer = 0;
+  GLuint vao = 0, program = 0;
+  GLuint timer[2] = {0, 0};  // GL_TIMESTAMP queries at the frame's start and end
+  GLuint framebuffer = 0, color_target = 0, depth_target = 0;  // offscreen, 0 = default
+  int offscreen_width = 0, offscreen_height = 0;
+  int frame_width = 0, frame_height = 0;  // of the last frame drawn, for capture()
+  uint32_t index_count = 0;
+  uint32_t white_material = 0;        // after the scene's materials, for draw_everything_at_once
+  size_t indirect_capacity = 0;       // in commands
+  std::vector<DrawCommand> commands;  // staging, capacity kept between frames
+  bool has_timer = false;
+
+  ~State() {
+    const GLuint buffers[] = {vertex_buffer, index_buffer, material_buffer, indirect_buffer};
+    glDeleteBuffers(4, buffers);
+    glDeleteVertexArrays(1, &vao);
+    glDeleteProgram(program);
+    glDeleteQueries(2, timer);
+    glDeleteFramebuffers(1, &framebuffer);
+    const GLuint targets[] = {color_target, depth_target};
+    glDeleteRenderbuffers(2, targets);
+  }
+
+  void reserve_commands(size_t count) {
+    if (count <= indirect_capacity) return;
+    indirect_capacity = std::max<size_t>(256, std::bit_ceil(count));
+    glDeleteBuffers(1, &indirect_buffer);
+    // Per-frame code has no error channel; a few MB of commands failing to fit is fatal.
+    const Result<void> made =
+        make_buffer(indirect_buffer, "indirect draw commands",
+                    indirect_capacity * sizeof(DrawCommand), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    FF_ASSERT(made.ok(), "%s", made.error().message.c_str());
+  }
+
+  // Binds the target, sets every piece of state the frame depends on (another user of the
+  // context, such as an ImGui overlay, may have changed it), clears and starts the timer.
+  void begin_frame(const View& view) {
+    FF_ASSERT(
+        framebuffer == 0 || (view.width == offscreen_width && view.height == offscreen_height),
+        "view is %dx%d but the offscreen target is %dx%d", view.width, view.height, offscreen_width,
+        offscreen_height);
+    frame_width = view.width;
+    frame_height = view.height;
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glViewport(0, 0, view.width, view.height);
+    // Reversed-Z (View::projection_matrix): depth in [0, 1], 1 at the near plane, 0 at infinity.
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_MULTISAMPLE);  // pixels must be exactly reproducible between techniques
+    glDisable(GL_FRAMEBUFFER_SRGB);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_TRUE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+    glDisable(GL_BLEND);
+
+    if (has_timer) glQueryCounter(timer[0], GL_TIMESTAMP);
+    const float far_depth = 0.0f;
+    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, kSkyColor);
+    glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &far_depth);
+    glUseProgram(program);
+    glBindVertexArray(vao);
+    glProgramUniformMatrix4fv(program, kViewProjectionUniform, 1, GL_FALSE,
+                              glm::value_ptr(view.view_projection()));
+  }
+
+  // Reads the timer synchronously: this waits for the GPU, which the benchmark does anyway.
+  // On llvmpipe the timestamps see only the rasteriser threads (vertex processing and binning
+  // run in the calling thread), so gpu_ms there reads far below the frame's time.
+  FrameStats end_frame(FrameStats stats) {
+    if (has_timer) {
+      glQueryCounter(timer[1], GL_TIMESTAMP);
+      GLuint64 start = 0, end = 0;
+      glGetQueryObjectui64v(timer[0], GL_QUERY_RESULT, &start);
+      glGetQueryObjectui64v(timer[1], GL_QUERY_RESULT, &end);
+      stats.gpu_ms = end > start ? double(end - start) * 1e-6 : 0.0;
+    }
+    return stats;
+  }
+};
+
+Renderer::Renderer() : state_(std::make_unique<State>()) {}
+Renderer::~Renderer() = default;
+
+Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene) {
+  FF_ASSERT(epoxy_gl_version() >= 45, "needs a current OpenGL 4.5 context (version %d)",
+            epoxy_gl_version());
+  FF_ASSERT(scene.indices.size() <= UINT32_MAX, "%zu indices", scene.indices.size());
+  std::unique_ptr<Renderer> renderer(new Renderer());
+  State& s = *renderer->state_;  // deletes what was made if a step below fails
+
+  std::vector<Material> materials = scene.materials;
+  s.white_material = uint32_t(materials.size());
+  materials.push_back(Material{glm::vec4(1.0f)});
+  s.index_count = uint32_t(scene.indices.size());
+  if (auto made = make_buffer(s.vertex_buffer, "vertex buffer",
+                              scene.vertices.size() * sizeof(Vertex), scene.vertices.data(), 0);
+      !made)
+    return made.error();
+  if (auto made = make_buffer(s.index_buffer, "index buffer",
+                              scene.indices.size() * sizeof(uint32_t), scene.indices.data(), 0);
+      !made)
+    return made.error();
+  if (auto made = make_buffer(s.material_buffer, "material buffer",
+                              materials.size() * sizeof(Material), materials.data(), 0);
+      !made)
+    return made.error();
+
+  glCreateVertexArrays(1, &s.vao);
+  glVertexArrayVertexBuffer(s.vao, 0, s.vertex_buffer, 0, sizeof(Vertex));
+  // One material per instance; each draw command's baseInstance is its material index.
+  glVertexArrayVertexBuffer(s.vao, 1, s.material_buffer, 0, sizeof(Material));
+  glVertexArrayBindingDivisor(s.vao, 1, 1);
+  glVertexArrayElementBuffer(s.vao, s.index_buffer);
+  auto attribute = [&](GLuint index, GLuint binding, GLenum type, GLboolean normalized,
+                       size_t offset, GLint size = 4) {
+    glEnableVertexArrayAttrib(s.vao, index);
+    glVertexArrayAttribFormat(s.vao, index, size, type, normalized, GLuint(offset));
+    glVertexArrayAttribBinding(s.vao, index, binding);
+  };
+  attribute(kPositionAttrib, 0, GL_FLOAT, GL_FALSE, offsetof(Vertex, position), 3);
+  attribute(kNormalAttrib, 0, GL_INT_2_10_10_10_REV, GL_TRUE, offsetof(Vertex, normal));
+  attribute(kColorAttrib, 0, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(Vertex, color));
+  attribute(kMaterialAttrib, 1, GL_FLOAT, GL_FALSE, 0);
+
+  s.program = build_scene_program();
+  glm::vec3 lights[2];
+  for (int i = 0; i < 2; ++i) {
+    const float heading = glm::radians(kLightHeadingDeg + 180.0f * float(i));
+    const float elevation = glm::radians(kLightElevationDeg);
+    lights[i] = {std::cos(elevation) * std::cos(heading), std::sin(elevation),
+                 std::cos(elevation) * std::sin(heading)};
+  }
+  glProgramUniform3fv(s.program, kLightDirUniform, 2, glm::value_ptr(lights[0]));
+  glProgramUniform1f(s.program, kLightWeightUniform, kLightWeight);
+  glProgramUniform1f(s.program, kAmbientUniform, kAmbient);
+
+  // Timestamps rather than GL_TIME_ELAPSED: Mesa 22's llvmpipe returns the absolute clock
+  // for the first GL_TIME_ELAPSED query of a context (a start time never recorded).
+  GLint timer_bits = 0;
+  glGetQueryiv(GL_TIMESTAMP, GL_QUERY_COUNTER_BITS, &timer_bits);
+  s.has_timer = timer_bits > 0;
+  if (s.has_timer) glCreateQueries(GL_TIMESTAMP, 2, s.timer);
+  return renderer;
+}
+
+FrameStats Renderer::draw(const View& view, const DrawList& list) {
+  State& s = *state_;
+  s.commands.clear();
+  auto add = [&](const DrawRange& r) {
+    FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
+                  uint64_t(r.first_index) + r.index_count <= s.index_count &&
+                  r.material < s.white_material,
+              "range [%u, +%u) material %u outside the scene's %u indices and %u materials",
+              r.first_index, r.index_count, r.material, s.index_count, s.white_material);
+    s.commands.push_back({r.index_count, 1, r.first_index, 0, r.material});
+  };
+  for (const DrawRange& r : list.opaque) add(r);
+  for (const DrawRange& r : list.transparent) add(r);
+  const size_t opaque = list.opaque.size(), total = s.commands.size();
+  s.reserve_commands(total);
+  if (total > 0)
+    glNamedBufferSubData(s.indirect_buffer, 0, GLsizeiptr(total * sizeof(DrawCommand)),
+                         s.commands.data());
+
+  s.begin_frame(view);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, s.indirect_buffer);
+  if (opaque > 0)
+    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(opaque), 0);
+  if (total > opaque) {
+    // Semi-transparent surfaces after the opaque ones, in the list's order, both sides,
+    // tested against but not writing depth.
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);
+    glDisable(GL_CULL_FACE);
+    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                                reinterpret_cast<const void*>(opaque * sizeof(DrawCommand)),
+                                GLsizei(total - opaque), 0);
+  }
+  return s.end_frame({0.0, list.triangle_count(), list.draw_count()});
+}
+
+FrameStats Renderer::draw_everything_at_once(const View& view) {
+  State& s = *state_;
+  s.begin_frame(view);
+  if (s.index_count > 0)
+    glDrawElementsInstancedBaseInstance(GL_TRIANGLES, GLsizei(s.index_count), GL_UNSIGNED_INT,
+                                        nullptr, 1, s.white_material);
+  return s.end_frame({0.0, s.index_count / 3u, 1});
+}
+
+void Renderer::set_offscreen(int width, int height) {
+  State& s = *state_;
+  if (width == s.offscreen_width && height == s.offscreen_height) return;
+  glDeleteFramebuffers(1, &s.framebuffer);
+  const GLuint targets[] = {s.color_target, s.depth_target};
+  glDeleteRenderbuffers(2, targets);
+  s.framebuffer = s.color_target = s.depth_target = 0;
+  s.offscreen_width = s.offscreen_height = 0;
+  if (width == 0 && height == 0) return;
+
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+  FF_ASSERT(width > 0 && height > 0 && width <= max_size && height <= max_size,
+            "offscreen target %dx%d (limit %d)", width, height, max_size);
+  glCreateRenderbuffers(1, &s.color_target);
+  glNamedRenderbufferStorage(s.color_target, GL_RGBA8, width, height);
+  glCreateRenderbuffers(1, &s.depth_target);
+  glNamedRenderbufferStorage(s.depth_target, GL_DEPTH_COMPONENT32F, width, height);
+  glCreateFramebuffers(1, &s.framebuffer);
+  glNamedFramebufferRenderbuffer(s.framebuffer, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                 s.color_target);
+  glNamedFramebufferRenderbuffer(s.framebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                 s.depth_target);
+  const GLenum status = glCheckNamedFramebufferStatus(s.framebuffer, GL_FRAMEBUFFER);
+  FF_ASSERT(status == GL_FRAMEBUFFER_COMPLETE, "offscreen target %dx%d incomplete (0x%x)", width,
+            height, status);
+  s.offscreen_width = width;
+  s.offscreen_height = height;
+}
+
+Image Renderer::capture() {
+  State& s = *state_;
+  FF_ASSERT(s.frame_width > 0 && s.frame_height > 0, "capture() before any frame was drawn");
+  glFinish();
+  Image image(s.frame_width, s.frame_height);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, s.framebuffer);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, image.width, image.height, GL_RGB, GL_UNSIGNED_BYTE, image.rgb.data());
+  // GL rows start at the bottom, Image rows at the top.
+  const size_t row = size_t(image.width) * 3;
+  for (int y = 0; y < image.height / 2; ++y)
+    std::swap_ranges(image.pixel(0, y), image.pixel(0, y) + row,
+                     image.pixel(0, image.height - 1 - y));
+  return image;
+}
+
+}  // namespace farfield::gpu

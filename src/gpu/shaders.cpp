@@ -1,0 +1,85 @@
+#include "shaders.hpp"
+
+#include <string>
+
+#include "farfield/core/assert.hpp"
+
+namespace farfield::gpu {
+
+namespace {
+
+// The material colour is an instanced attribute (divisor 1) read at the draw's baseInstance,
+// so every command of a multi-draw picks its material without gl_DrawID.
+constexpr const char* kVertexShader = R"(#version 450 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+layout(location = 2) in vec4 color;
+layout(location = 3) in vec4 material_color;
+layout(location = 0) uniform mat4 view_projection;
+out vec3 v_normal;
+out vec4 v_color;
+void main() {
+  gl_Position = view_projection * vec4(position, 1.0);
+  v_normal = normal;
+  v_color = vec4(color.rgb * material_color.rgb, material_color.a);
+}
+)";
+
+// Lambert from two directional lights plus ambient (paper 000, Sec. 5.3). Back faces, seen
+// only through transparent surfaces, are shaded as seen from the eye's side.
+constexpr const char* kFragmentShader = R"(#version 450 core
+layout(location = 1) uniform vec3 light_dir[2];
+layout(location = 3) uniform float light_weight;
+layout(location = 4) uniform float ambient;
+in vec3 v_normal;
+in vec4 v_color;
+layout(location = 0) out vec4 frag_color;
+void main() {
+  vec3 n = normalize(gl_FrontFacing ? v_normal : -v_normal);
+  float light = ambient + light_weight * (max(dot(n, light_dir[0]), 0.0) +
+                                          max(dot(n, light_dir[1]), 0.0));
+  frag_color = vec4(min(v_color.rgb * light, vec3(1.0)), v_color.a);
+}
+)";
+
+GLuint compile(GLenum stage, const char* source) {
+  const GLuint shader = glCreateShader(stage);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = GL_FALSE, length = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    std::string log(size_t(length > 0 ? length : 1), '\0');
+    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    FF_ASSERT(ok, "%s shader does not compile:\n%s",
+              stage == GL_VERTEX_SHADER ? "vertex" : "fragment", log.c_str());
+  }
+  return shader;
+}
+
+}  // namespace
+
+GLuint build_scene_program() {
+  const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
+  const GLuint fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  glDetachShader(program, vs);
+  glDetachShader(program, fs);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = GL_FALSE, length = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+    std::string log(size_t(length > 0 ? length : 1), '\0');
+    glGetProgramInfoLog(program, length, nullptr, log.data());
+    FF_ASSERT(ok, "scene program does not link:\n%s", log.c_str());
+  }
+  return program;
+}
+
+}  // namespace farfield::gpu

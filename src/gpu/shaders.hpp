@@ -1,0 +1,22 @@
+// GLSL of the Renderer and the program object built from it.
+#pragma once
+
+#include <epoxy/gl.h>
+
+namespace farfield::gpu {
+
+// Attribute locations of the scene VAO.
+enum : GLuint { kPositionAttrib = 0, kNormalAttrib = 1, kColorAttrib = 2, kMaterialAttrib = 3 };
+// Uniform locations.
+enum : GLint {
+  kViewProjectionUniform = 0,  // mat4
+  kLightDirUniform = 1,        // vec3[2], unit, towards the lights
+  kLightWeightUniform = 3,     // float, diffuse weight of each light
+  kAmbientUniform = 4,         // float
+};
+
+// Compiles and links the scene shading program. A compile or link error is a programming
+// error: it asserts with the GL info log.
+GLuint build_scene_program();
+
+}  // namespace farfield::gpu
