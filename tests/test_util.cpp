@@ -69,8 +69,9 @@ Scene make_box_row(int boxes) {
   return scene;
 }
 
-CommandResult run_farfield(const std::string& args, const std::string& cwd) {
-  std::string command = std::string(FARFIELD_EXE) + " " + args + " 2>&1";
+CommandResult run_farfield(const std::string& args, const std::string& cwd,
+                           const std::string& wrapper) {
+  std::string command = wrapper + FARFIELD_EXE + " " + args + " 2>&1";
   if (!cwd.empty()) command = "cd '" + cwd + "' && " + command;
   CommandResult result;
   FILE* pipe = ::popen(command.c_str(), "r");

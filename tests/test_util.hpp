@@ -30,8 +30,9 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 // Runs the farfield executable with `args` (shell-quoted by the caller), in folder `cwd` when
-// one is given.
-CommandResult run_farfield(const std::string& args, const std::string& cwd = "");
+// one is given, behind `wrapper` (e.g. "xvfb-run -a ") when one is given.
+CommandResult run_farfield(const std::string& args, const std::string& cwd = "",
+                           const std::string& wrapper = "");
 
 void write_file(const std::string& path, const std::string& bytes);
 std::string read_file(const std::string& path);

@@ -18,6 +18,9 @@ struct Command {
 void add_generate_commands(CLI::App& root, std::vector<Command>& commands);
 void add_import_command(CLI::App& root, std::vector<Command>& commands);
 void add_info_command(CLI::App& root, std::vector<Command>& commands);
+void add_path_command(CLI::App& root, std::vector<Command>& commands);
+void add_bench_command(CLI::App& root, std::vector<Command>& commands);
+void add_view_command(CLI::App& root, std::vector<Command>& commands);
 
 // Prints "farfield: <message>" on stderr and returns 1.
 int fail(const std::string& message);

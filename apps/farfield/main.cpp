@@ -26,6 +26,9 @@ int main(int argc, char** argv) {
   add_generate_commands(app, commands);
   add_import_command(app, commands);
   add_info_command(app, commands);
+  add_path_command(app, commands);
+  add_bench_command(app, commands);
+  add_view_command(app, commands);
 
   try {
     app.parse(argc, argv);

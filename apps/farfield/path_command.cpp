@@ -1,0 +1,60 @@
+// farfield path SCENE --kind street|fly|orbit --frames N --out path.json
+#include <cstdio>
+
+#include <glm/geometric.hpp>
+
+#include "commands.hpp"
+#include "farfield/core/camera_path.hpp"
+#include "farfield/scene/path_generator.hpp"
+#include "farfield/scene/scene_file.hpp"
+
+namespace farfield::cli {
+
+void add_path_command(CLI::App& root, std::vector<Command>& commands) {
+  struct Settings {
+    std::string scene, out;
+    PathOptions path;
+  };
+  auto s = std::make_shared<Settings>();
+  PathOptions& p = s->path;
+  CLI::App* cmd = root.add_subcommand(
+      "path", "Make a camera path through a scene for 'bench' and 'view': street (at eye height "
+              "along the streets of a generated city), fly (a loop above the roofs) or orbit "
+              "(a circle around the scene, looking at its centre)");
+  cmd->add_option("scene", s->scene, "A .ffscene file")->required();
+  cmd->add_option("--kind", p.kind, "street, fly or orbit")
+      ->check(CLI::IsMember({"street", "fly", "orbit"}))
+      ->capture_default_str();
+  cmd->add_option("--frames", p.frames, "Number of frames")->capture_default_str();
+  cmd->add_option("--speed", p.speed,
+                  "Metres per frame; 0: 1.5 for street, one loop over all frames for fly and "
+                  "orbit")
+      ->capture_default_str();
+  cmd->add_option("--seed", p.seed, "Random seed of the turns of a street path")
+      ->capture_default_str();
+  cmd->add_option("--eye-height", p.eye_height, "Eye height above the street, m (street)")
+      ->capture_default_str();
+  cmd->add_option("--out,-o", s->out, "Output path .json file")->required();
+  commands.push_back({cmd, [s] {
+                        auto scene = read_scene(s->scene);
+                        if (!scene) return fail(scene.error().message);
+                        auto path = generate_path(*scene, s->path);
+                        if (!path) {  // name the scene, unless it is an option that is wrong
+                          const std::string& message = path.error().message;
+                          return fail(message.starts_with("--") ? message
+                                                                : s->scene + ": " + message);
+                        }
+                        path->scene = s->scene;
+                        if (auto ok = write_camera_path(*path, s->out); !ok)
+                          return fail(ok.error().message);
+                        double length = 0.0;
+                        for (size_t i = 1; i < path->frames.size(); ++i)
+                          length += glm::distance(path->frames[i - 1].position,
+                                                  path->frames[i].position);
+                        std::printf("wrote %s: %s path, %zu frames, %.1f m\n", s->out.c_str(),
+                                    path->kind.c_str(), path->frames.size(), length);
+                        return 0;
+                      }});
+}
+
+}  // namespace farfield::cli

@@ -1,0 +1,206 @@
+#include "farfield/core/camera_path.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+namespace farfield {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* kFormat = "farfield-path";
+constexpr int kVersion = 1;
+
+Error io_error(const std::string& file, const char* what) {
+  return make_error(file, ": ", what, ": ", std::strerror(errno));
+}
+
+// The shortest decimal that reads back as the same float, as a double, so that the JSON says
+// 12.3 rather than 12.300000190734863 and reading it back gives the float that was written.
+double shortest(float v) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, v).ptr;
+  double d = 0.0;
+  std::from_chars(text, end, d);
+  return d;
+}
+
+// Empty when the pose can be written and read back; else what is wrong with it.
+std::string pose_problem(const CameraPose& p) {
+  if (!std::isfinite(p.position.x) || !std::isfinite(p.position.y) || !std::isfinite(p.position.z))
+    return "position must be 3 finite numbers";
+  if (!std::isfinite(p.yaw_deg)) return "yaw_deg must be a finite number";
+  if (!(p.pitch_deg > -90.0f && p.pitch_deg < 90.0f))  // also refuses NaN
+    return "pitch_deg must be a number in (-90, 90)";
+  return {};
+}
+
+bool write_all(int fd, const char* p, size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, p, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    p += n;
+    size -= static_cast<size_t>(n);
+  }
+  return true;
+}
+
+// Writes `text` to a temporary file beside `file`, flushes it and renames it into place, so a
+// reader never sees half a file and a failed write leaves the old one.
+Result<void> write_atomically(const std::string& file, const std::string& text) {
+  const std::filesystem::path target(file);
+  const std::filesystem::path dir = target.parent_path().empty() ? "." : target.parent_path();
+  std::string tmp = (dir / ".").string();
+  tmp.append(target.filename().string());
+  tmp.append(".XXXXXX.tmp");
+  const int fd = ::mkstemps(tmp.data(), 4);
+  if (fd < 0) return io_error(file, "cannot create a temporary file beside it");
+  ::fchmod(fd, 0644);
+  auto fail = [&](const char* what) -> Result<void> {
+    Error e = io_error(file, what);
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    return e;
+  };
+  if (!write_all(fd, text.data(), text.size())) return fail("write failed");
+  if (::fsync(fd) != 0) return fail("flush failed");
+  if (::close(fd) != 0) {
+    Error e = io_error(file, "close failed");
+    ::unlink(tmp.c_str());
+    return e;
+  }
+  if (::rename(tmp.c_str(), file.c_str()) != 0) {
+    Error e = io_error(file, "cannot rename the temporary file into place");
+    ::unlink(tmp.c_str());
+    return e;
+  }
+  return {};
+}
+
+Result<void> read_whole(const std::string& file, std::string& text) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return io_error(file, "cannot open");
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return io_error(file, "cannot stat");
+  if (!S_ISREG(st.st_mode)) return make_error(file, ": not a regular file");
+  char chunk[65536];
+  for (;;) {
+    const ssize_t n = ::read(fd, chunk, sizeof chunk);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return io_error(file, "read failed");
+    if (n == 0) return {};
+    text.append(chunk, static_cast<size_t>(n));
+  }
+}
+
+// A finite number that fits a float, or nothing.
+bool read_number(const json& j, float& out) {
+  if (!j.is_number()) return false;
+  out = static_cast<float>(j.get<double>());
+  return std::isfinite(out);
+}
+
+// Parses one frame; the message says what is wrong, without the file and frame number.
+std::string parse_frame(const json& j, CameraPose& pose) {
+  if (!j.is_object()) return "must be an object";
+  const auto position = j.find("position");
+  if (position == j.end()) return "missing \"position\"";
+  if (!position->is_array() || position->size() != 3) return "position must be 3 numbers";
+  for (int a = 0; a < 3; ++a) {
+    if (!(*position)[a].is_number()) return "position must be 3 numbers";
+    if (!read_number((*position)[a], pose.position[a])) return "position must be finite";
+  }
+  for (auto [key, value] : {std::pair{"yaw_deg", &pose.yaw_deg}, {"pitch_deg", &pose.pitch_deg}}) {
+    const auto it = j.find(key);
+    if (it == j.end()) return std::string("missing \"") + key + "\"";
+    if (!read_number(*it, *value)) return std::string(key) + " must be a finite number";
+  }
+  return pose_problem(pose);
+}
+
+}  // namespace
+
+Result<void> write_camera_path(const CameraPath& path, const std::string& file) {
+  if (path.frames.empty()) return make_error(file, ": refusing to write a path without frames");
+  // One frame per line: readable, and diffs of two paths line up.
+  std::string text = "{\"format\": ";
+  text += json(kFormat).dump();
+  text += ", \"version\": " + std::to_string(kVersion);
+  text += ", \"kind\": " + json(path.kind).dump();
+  text += ", \"scene\": " + json(path.scene).dump();
+  text += ",\n \"frames\": [\n";
+  for (size_t i = 0; i < path.frames.size(); ++i) {
+    const CameraPose& p = path.frames[i];
+    if (std::string problem = pose_problem(p); !problem.empty())
+      return make_error(file, ": refusing to write frame ", std::to_string(i), ": ", problem);
+    // ordered_json: the keys in the order a reader expects rather than sorted.
+    const nlohmann::ordered_json frame = {
+        {"position", {shortest(p.position.x), shortest(p.position.y), shortest(p.position.z)}},
+        {"yaw_deg", shortest(p.yaw_deg)},
+        {"pitch_deg", shortest(p.pitch_deg)}};
+    text += "  ";
+    text += frame.dump();
+    text += i + 1 < path.frames.size() ? ",\n" : "\n";
+  }
+  text += "]}\n";
+  return write_atomically(file, text);
+}
+
+Result<CameraPath> read_camera_path(const std::string& file) {
+  std::string text;
+  if (auto ok = read_whole(file, text); !ok) return ok.error();
+  if (text.empty()) return make_error(file, ": file is empty");
+
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::exception& e) {
+    return make_error(file, ": not valid JSON: ", e.what());
+  }
+  if (!root.is_object()) return make_error(file, ": not a farfield path (not a JSON object)");
+  const auto format = root.find("format");
+  if (format == root.end() || !format->is_string() || *format != kFormat)
+    return make_error(file, ": not a farfield path (\"format\" is not \"", kFormat, "\")");
+  const auto version = root.find("version");
+  if (version == root.end() || !version->is_number_integer())
+    return make_error(file, ": missing or non-integer \"version\"");
+  if (*version != kVersion)
+    return make_error(file, ": unsupported path version ", version->dump(),
+                      " (this build reads version ", std::to_string(kVersion), ")");
+
+  CameraPath path;
+  const auto kind = root.find("kind");
+  if (kind == root.end() || !kind->is_string())
+    return make_error(file, ": missing or non-string \"kind\"");
+  path.kind = kind->get<std::string>();
+  if (const auto scene = root.find("scene"); scene != root.end()) {  // informative, optional
+    if (!scene->is_string()) return make_error(file, ": \"scene\" must be a string");
+    path.scene = scene->get<std::string>();
+  }
+  const auto frames = root.find("frames");
+  if (frames == root.end() || !frames->is_array())
+    return make_error(file, ": missing or non-array \"frames\"");
+  if (frames->empty()) return make_error(file, ": the path has no frames");
+  path.frames.resize(frames->size());
+  for (size_t i = 0; i < frames->size(); ++i) {
+    if (std::string problem = parse_frame((*frames)[i], path.frames[i]); !problem.empty())
+      return make_error(file, ": frame ", std::to_string(i), ": ", problem);
+  }
+  return path;
+}
+
+}  // namespace farfield

@@ -1,0 +1,98 @@
+// The bench runner end to end on a small city and a short path: bench.json has every field
+// DESIGN.md lists, octree matches brute, images and plot are written. GL, headless.
+#include "farfield/eval/bench.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "farfield/gpu/context.hpp"
+#include "farfield/scene/city_generator.hpp"
+#include "farfield/scene/path_generator.hpp"
+#include "test_util.hpp"
+
+namespace farfield {
+namespace {
+
+TEST(BenchGL, WritesEveryFieldAndOctreeMatchesBrute) {
+  if (auto context = gpu::create_headless_context(); !context)
+    GTEST_SKIP() << context.error().message;
+  test::TempDir dir;
+  CityOptions city_options;
+  city_options.blocks_x = city_options.blocks_z = 2;
+  Progress quiet(true);
+  auto city = generate_city(city_options, quiet);
+  ASSERT_TRUE(city);
+  PathOptions path_options;
+  path_options.frames = 12;
+  auto path = generate_path(*city, path_options);
+  ASSERT_TRUE(path) << path.error().message;
+
+  BenchOptions options;
+  options.scene_file = "city.ffscene";
+  options.techniques = {"octree", "raw"};
+  options.width = 160;
+  options.height = 120;
+  options.out_dir = dir.file("out");
+  options.warmup_frames = 1;
+  options.reference_every = 4;
+  auto report = run_bench(*city, *path, options, quiet);
+  ASSERT_TRUE(report) << report.error().message;
+  ASSERT_EQ(report->techniques.size(), 3u);
+  EXPECT_EQ(report->techniques[0].name, "brute");  // the reference runs first
+
+  const auto json = nlohmann::json::parse(test::read_file(dir.file("out/bench.json")));
+  for (const char* key : {"scene", "width", "height", "hfov_deg", "renderer", "techniques"})
+    EXPECT_TRUE(json.contains(key)) << key;
+  for (const char* key : {"file", "triangles", "objects"}) EXPECT_TRUE(json["scene"].contains(key));
+  EXPECT_EQ(json["width"], 160);
+  for (const auto& t : json["techniques"]) {
+    for (const char* key : {"name", "frames", "summary"}) EXPECT_TRUE(t.contains(key)) << key;
+    ASSERT_EQ(t["frames"].size(), 12u);
+    for (const char* key : {"frame_ms", "cpu_ms", "gpu_ms", "triangles", "draw_calls"})
+      EXPECT_TRUE(t["frames"][0].contains(key)) << key;
+    EXPECT_TRUE(t["frames"][0].contains("psnr_db"));   // frame 0 is compared
+    EXPECT_FALSE(t["frames"][1].contains("psnr_db"));  // frame 1 is not
+    for (const char* key : {"median_ms", "p95_ms", "p99_ms", "max_ms", "mean_triangles",
+                            "psnr_db_mean", "psnr_db_min", "peak_rss_mb", "bake_s", "store_bytes"})
+      EXPECT_TRUE(t["summary"].contains(key)) << key;
+  }
+  const auto& octree = json["techniques"][1];
+  EXPECT_EQ(octree["name"], "octree");
+  EXPECT_EQ(octree["summary"]["identical_frames"], octree["summary"]["compared_frames"]);
+  EXPECT_GT(octree["summary"]["compared_frames"], 2);
+  EXPECT_TRUE(octree["summary"]["psnr_db_mean"].is_null());  // identical: infinite PSNR
+  EXPECT_LT(octree["summary"]["mean_triangles"], json["techniques"][0]["summary"]["mean_triangles"]);
+  EXPECT_EQ(json["techniques"][2]["frames"][3]["draw_calls"], 1);  // raw: one draw
+
+  for (const char* file : {"brute_frame0000.png", "octree_frame0011.png",
+                           "octree_frame0011_diff.png", "frame_times.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir.file("out/") + file)) << file;
+}
+
+TEST(Bench, RefusesBadOptionsBeforeRendering) {
+  test::TempDir dir;
+  const Scene scene = test::make_box_row(2);
+  CameraPath path{"test", "", {CameraPose{}}};
+  BenchOptions options;
+  options.out_dir = dir.file("out");
+  Progress quiet(true);
+  options.techniques = {"brute", "teleport"};
+  auto r = run_bench(scene, path, options, quiet);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("teleport"), std::string::npos);
+  options.techniques = {"brute"};
+  options.width = 0;
+  r = run_bench(scene, path, options, quiet);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("--width"), std::string::npos);
+  options.width = 1024;
+  path.frames.clear();
+  EXPECT_FALSE(run_bench(scene, path, options, quiet));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out")));  // nothing written
+}
+
+}  // namespace
+}  // namespace farfield

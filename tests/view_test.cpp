@@ -1,0 +1,60 @@
+// `farfield view` in a real window under Xvfb: it opens, draws the scene with its overlay,
+// plays a path and records one. Skipped where xvfb-run is not installed.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <set>
+
+#include "farfield/core/camera_path.hpp"
+#include "farfield/core/image.hpp"
+#include "farfield/scene/scene_file.hpp"
+#include "test_util.hpp"
+
+namespace farfield {
+namespace {
+
+TEST(ViewGL, ShowsTheSceneInAWindowUnderXvfb) {
+  if (!std::filesystem::exists("/usr/bin/xvfb-run")) GTEST_SKIP() << "xvfb-run not installed";
+  test::TempDir dir;
+  auto gen = test::run_farfield("generate city --blocks 2 -q --out " + dir.file("c.ffscene"));
+  ASSERT_EQ(gen.exit_status, 0) << gen.output;
+  auto path = test::run_farfield("path " + dir.file("c.ffscene") + " --kind orbit --frames 10 --out " +
+                                 dir.file("p.json"));
+  ASSERT_EQ(path.exit_status, 0) << path.output;
+  const std::string xvfb = "-a -s '-screen 0 800x600x24' ";
+  auto r = test::run_farfield(
+      "view " + dir.file("c.ffscene") + " --path " + dir.file("p.json") +
+          " --width 320 --height 240 --frames 6 --screenshot " + dir.file("shot.png") +
+          " --record " + dir.file("rec.json"),
+      "", "xvfb-run " + xvfb);
+  ASSERT_EQ(r.exit_status, 0) << r.output;
+  auto shot = read_png(dir.file("shot.png"));
+  ASSERT_TRUE(shot) << shot.error().message;
+  EXPECT_EQ(shot->width, 320);
+  std::set<uint32_t> colours;
+  for (size_t i = 0; i < shot->rgb.size(); i += 3)
+    colours.insert(shot->rgb[i] | shot->rgb[i + 1] << 8 | shot->rgb[i + 2] << 16);
+  EXPECT_GT(colours.size(), 50u);  // sky, buildings, streets, overlay text: not a blank window
+  // The session played the path: the recording holds its first frames.
+  auto recorded = read_camera_path(dir.file("rec.json"));
+  ASSERT_TRUE(recorded) << recorded.error().message;
+  auto played = read_camera_path(dir.file("p.json"));
+  ASSERT_EQ(recorded->frames.size(), 6u);
+  EXPECT_EQ(recorded->frames[3].position, played->frames[3].position);
+}
+
+TEST(View, WithoutADisplayItFailsWithAMessage) {
+  test::TempDir dir;
+  auto gen = test::run_farfield("generate city --blocks 1 -q --out " + dir.file("c.ffscene"));
+  ASSERT_EQ(gen.exit_status, 0);
+  auto r = test::run_farfield("view " + dir.file("c.ffscene") + " --frames 1", "",
+                              "env -u DISPLAY -u WAYLAND_DISPLAY ");
+  EXPECT_EQ(r.exit_status, 1) << r.output;
+  EXPECT_NE(r.output.find("window"), std::string::npos) << r.output;
+  auto bad = test::run_farfield("view " + dir.file("missing.ffscene"));
+  EXPECT_EQ(bad.exit_status, 1);
+  EXPECT_NE(bad.output.find("missing.ffscene"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace farfield
