@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "farfield/core/atomic_file.hpp"
+
 namespace farfield {
 
 namespace {
@@ -41,49 +43,6 @@ std::string pose_problem(const CameraPose& p) {
   if (!std::isfinite(p.yaw_deg)) return "yaw_deg must be a finite number";
   if (!(p.pitch_deg > -90.0f && p.pitch_deg < 90.0f))  // also refuses NaN
     return "pitch_deg must be a number in (-90, 90)";
-  return {};
-}
-
-bool write_all(int fd, const char* p, size_t size) {
-  while (size > 0) {
-    const ssize_t n = ::write(fd, p, size);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    p += n;
-    size -= static_cast<size_t>(n);
-  }
-  return true;
-}
-
-// Writes `text` to a temporary file beside `file`, flushes it and renames it into place, so a
-// reader never sees half a file and a failed write leaves the old one.
-Result<void> write_atomically(const std::string& file, const std::string& text) {
-  const std::filesystem::path target(file);
-  const std::filesystem::path dir = target.parent_path().empty() ? "." : target.parent_path();
-  std::string tmp = (dir / ".").string();
-  tmp.append(target.filename().string());
-  tmp.append(".XXXXXX.tmp");
-  const int fd = ::mkstemps(tmp.data(), 4);
-  if (fd < 0) return io_error(file, "cannot create a temporary file beside it");
-  ::fchmod(fd, 0644);
-  auto fail = [&](const char* what) -> Result<void> {
-    Error e = io_error(file, what);
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    return e;
-  };
-  if (!write_all(fd, text.data(), text.size())) return fail("write failed");
-  if (::fsync(fd) != 0) return fail("flush failed");
-  if (::close(fd) != 0) {
-    Error e = io_error(file, "close failed");
-    ::unlink(tmp.c_str());
-    return e;
-  }
-  if (::rename(tmp.c_str(), file.c_str()) != 0) {
-    Error e = io_error(file, "cannot rename the temporary file into place");
-    ::unlink(tmp.c_str());
-    return e;
-  }
   return {};
 }
 
@@ -157,7 +116,7 @@ Result<void> write_camera_path(const CameraPath& path, const std::string& file) 
     text += i + 1 < path.frames.size() ? ",\n" : "\n";
   }
   text += "]}\n";
-  return write_atomically(file, text);
+  return write_file_atomically(file, text);
 }
 
 Result<CameraPath> read_camera_path(const std::string& file) {

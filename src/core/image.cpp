@@ -13,6 +13,7 @@
 #include <png.h>
 
 #include "farfield/core/assert.hpp"
+#include "farfield/core/atomic_file.hpp"
 
 namespace farfield {
 
@@ -20,50 +21,6 @@ namespace {
 
 Error io_error(const std::string& path, const char* what) {
   return make_error(path, ": ", what, ": ", std::strerror(errno));
-}
-
-bool write_all(int fd, const void* data, size_t size) {
-  const char* p = static_cast<const char*>(data);
-  while (size > 0) {
-    const ssize_t n = ::write(fd, p, size);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    p += n;
-    size -= static_cast<size_t>(n);
-  }
-  return true;
-}
-
-// Writes `bytes` to a temporary file beside `path`, then renames it into place, so that a
-// reader never sees half a file and a failure leaves nothing behind.
-Result<void> write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes) {
-  const std::filesystem::path target(path);
-  const std::filesystem::path folder = target.parent_path().empty() ? "." : target.parent_path();
-  std::string tmp = (folder / ".").string();
-  tmp.append(target.filename().string());
-  tmp.append(".XXXXXX.tmp");
-  const int fd = ::mkstemps(tmp.data(), 4);
-  if (fd < 0) return io_error(path, "cannot create a temporary file beside it");
-  ::fchmod(fd, 0644);
-  auto fail = [&](const char* what) -> Result<void> {
-    Error e = io_error(path, what);
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    return e;
-  };
-  if (!write_all(fd, bytes.data(), bytes.size())) return fail("write failed");
-  if (::fsync(fd) != 0) return fail("flush failed");
-  if (::close(fd) != 0) {
-    Error e = io_error(path, "close failed");
-    ::unlink(tmp.c_str());
-    return e;
-  }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    Error e = io_error(path, "cannot rename the temporary file into place");
-    ::unlink(tmp.c_str());
-    return e;
-  }
-  return {};
 }
 
 }  // namespace
@@ -86,7 +43,8 @@ Result<void> write_png(const Image& image, const std::string& path) {
   if (!png_image_write_to_memory(&png, bytes.data(), &size, 0, image.rgb.data(), 0, nullptr))
     return make_error(path, ": cannot encode PNG: ", png.message);
   bytes.resize(size);
-  return write_file_atomically(path, bytes);
+  return write_file_atomically(
+      path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 Result<Image> read_png(const std::string& path) {

@@ -12,6 +12,8 @@
 
 #include <xxhash.h>
 
+#include "farfield/core/atomic_file.hpp"
+
 namespace farfield {
 
 static_assert(std::endian::native == std::endian::little, "the .ffscene layout is little-endian");
@@ -62,19 +64,6 @@ uint64_t header_checksum(const Header& h) {
 
 Error io_error(const std::string& path, const char* what) {
   return make_error(path, ": ", what, ": ", std::strerror(errno));
-}
-
-// Writes all of `data` or fails.
-bool write_all(int fd, const void* data, size_t size) {
-  const char* p = static_cast<const char*>(data);
-  while (size > 0) {
-    const ssize_t n = ::write(fd, p, size);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    p += n;
-    size -= static_cast<size_t>(n);
-  }
-  return true;
 }
 
 bool read_all(int fd, void* data, size_t size) {
@@ -172,49 +161,22 @@ Result<void> write_scene(const Scene& scene, const std::string& path) {
   h.file_size = offset;
   h.header_checksum = header_checksum(h);
 
-  // The temporary file sits beside the destination so that rename() is atomic.
-  const std::filesystem::path target(path);
-  std::filesystem::path tmp_path = target.parent_path().empty() ? "." : target.parent_path();
-  std::string tmp = (tmp_path / ".").string();  // "DIR/." then the hidden name after the dot
-  tmp.append(target.filename().string());
-  tmp.append(".XXXXXX.tmp");
-  const int fd = ::mkstemps(tmp.data(), 4);
-  if (fd < 0) return io_error(path, "cannot create a temporary file beside it");
-  ::fchmod(fd, 0644);
-
-  auto fail = [&](const char* what) -> Result<void> {
-    Error e = io_error(path, what);
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    return e;
-  };
-  static constexpr std::array<char, kAlignment> kZeros{};
-  uint64_t written = 0;
-  auto pad_to = [&](uint64_t position) {
-    const uint64_t n = position - written;
-    written = position;
-    return n == 0 || write_all(fd, kZeros.data(), n);
-  };
-  if (!write_all(fd, &h, sizeof(h))) return fail("write failed");
-  written = sizeof(h);
-  for (int s = 0; s < kSectionCount; ++s) {
-    const auto bytes = section_bytes(scene, s);
-    if (!pad_to(h.sections[s].offset) || !write_all(fd, bytes.data(), bytes.size()))
-      return fail("write failed");
-    written += bytes.size();
-  }
-  if (!pad_to(h.file_size)) return fail("write failed");
-  if (::fsync(fd) != 0) return fail("flush failed");
-  if (::close(fd) != 0) {
-    ::unlink(tmp.c_str());
-    return io_error(path, "close failed");
-  }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    Error e = io_error(path, "cannot rename the temporary file into place");
-    ::unlink(tmp.c_str());
-    return e;
-  }
-  return {};
+  return write_file_atomically(path, [&](int fd) {
+    static constexpr std::array<char, kAlignment> kZeros{};
+    uint64_t written = sizeof(h);
+    auto pad_to = [&](uint64_t position) {
+      const uint64_t n = position - written;
+      written = position;
+      return n == 0 || write_all(fd, kZeros.data(), n);
+    };
+    if (!write_all(fd, &h, sizeof(h))) return false;
+    for (int s = 0; s < kSectionCount; ++s) {
+      const auto bytes = section_bytes(scene, s);
+      if (!pad_to(h.sections[s].offset) || !write_all(fd, bytes.data(), bytes.size())) return false;
+      written += bytes.size();
+    }
+    return pad_to(h.file_size);
+  });
 }
 
 Result<Scene> read_scene(const std::string& path, SceneFileInfo* info) {
