@@ -3,6 +3,7 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -13,20 +14,12 @@
 #include <glm/trigonometric.hpp>
 
 #include "farfield/core/assert.hpp"
+#include "farfield/gpu/lighting.hpp"
 #include "shaders.hpp"
 
 namespace farfield::gpu {
 
 namespace {
-
-// Paper 000, Sec. 5.3: two directional lights opposite each other in heading, 14 degrees
-// above the horizon, so that every vertical face is lit by one of them; ambient keeps the
-// faces turned away from both (roofs' undersides) readable.
-constexpr float kLightElevationDeg = 14.0f;
-constexpr float kLightHeadingDeg = 30.0f;  // View's convention: 0 = +X, 90 = +Z; the other at +180
-constexpr float kLightWeight = 0.55f;      // diffuse weight of each light
-constexpr float kAmbient = 0.35f;
-constexpr float kSkyColor[4] = {0.70f, 0.78f, 0.85f, 1.0f};  // light blue-grey, linear RGB
 
 // DrawElementsIndirectCommand as the GL reads it from the indirect buffer.
 struct DrawCommand {
@@ -185,13 +178,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene) {
   attribute(kMaterialAttrib, 1, GL_FLOAT, GL_FALSE, 0);
 
   s.program = build_scene_program();
-  glm::vec3 lights[2];
-  for (int i = 0; i < 2; ++i) {
-    const float heading = glm::radians(kLightHeadingDeg + 180.0f * float(i));
-    const float elevation = glm::radians(kLightElevationDeg);
-    lights[i] = {std::cos(elevation) * std::cos(heading), std::sin(elevation),
-                 std::cos(elevation) * std::sin(heading)};
-  }
+  const std::array<glm::vec3, 2> lights = light_directions();
   glProgramUniform3fv(s.program, kLightDirUniform, 2, glm::value_ptr(lights[0]));
   glProgramUniform1f(s.program, kLightWeightUniform, kLightWeight);
   glProgramUniform1f(s.program, kAmbientUniform, kAmbient);
