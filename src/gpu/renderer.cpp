@@ -51,6 +51,9 @@ Result<void> make_buffer(GLuint& buffer, const char* what, size_t bytes, const v
 struct Renderer::State {
   GLuint vertex_buffer = 0, index_buffer = 0, material_buffer = 0, indirect_buffer = 0;
   GLuint vao = 0, program = 0;
+  // Proxy geometry (DrawList::proxies): its own buffers, VAO and unlit program.
+  GLuint proxy_vertex_buffer = 0, proxy_index_buffer = 0, proxy_vao = 0, proxy_program = 0;
+  uint32_t proxy_index_count = 0;
   GLuint timer[2] = {0, 0};  // GL_TIMESTAMP queries at the frame's start and end
   GLuint framebuffer = 0, color_target = 0, depth_target = 0;  // offscreen, 0 = default
   int offscreen_width = 0, offscreen_height = 0;
@@ -62,10 +65,13 @@ struct Renderer::State {
   bool has_timer = false;
 
   ~State() {
-    const GLuint buffers[] = {vertex_buffer, index_buffer, material_buffer, indirect_buffer};
-    glDeleteBuffers(4, buffers);
+    const GLuint buffers[] = {vertex_buffer,       index_buffer,      material_buffer,
+                              indirect_buffer,     proxy_vertex_buffer, proxy_index_buffer};
+    glDeleteBuffers(6, buffers);
     glDeleteVertexArrays(1, &vao);
+    glDeleteVertexArrays(1, &proxy_vao);
     glDeleteProgram(program);
+    glDeleteProgram(proxy_program);
     glDeleteQueries(2, timer);
     glDeleteFramebuffers(1, &framebuffer);
     const GLuint targets[] = {color_target, depth_target};
@@ -206,15 +212,38 @@ FrameStats Renderer::draw(const View& view, const DrawList& list) {
   for (const DrawRange& r : list.opaque) add(r);
   for (const DrawRange& r : list.transparent) add(r);
   const size_t opaque = list.opaque.size(), total = s.commands.size();
-  s.reserve_commands(total);
-  if (total > 0)
-    glNamedBufferSubData(s.indirect_buffer, 0, GLsizeiptr(total * sizeof(DrawCommand)),
+  for (const DrawRange& r : list.proxies) {
+    FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
+                  uint64_t(r.first_index) + r.index_count <= s.proxy_index_count,
+              "proxy range [%u, +%u) outside the %u proxy indices", r.first_index, r.index_count,
+              s.proxy_index_count);
+    s.commands.push_back({r.index_count, 1, r.first_index, 0, 0});
+  }
+  s.reserve_commands(s.commands.size());
+  if (!s.commands.empty())
+    glNamedBufferSubData(s.indirect_buffer, 0, GLsizeiptr(s.commands.size() * sizeof(DrawCommand)),
                          s.commands.data());
 
   s.begin_frame(view);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, s.indirect_buffer);
   if (opaque > 0)
     glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(opaque), 0);
+  if (!list.proxies.empty()) {
+    // Proxies depth-test and write like opaque geometry; alpha below one blends (coverage
+    // drawn as transparency). Their commands follow the scene's in the indirect buffer.
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glUseProgram(s.proxy_program);
+    glProgramUniformMatrix4fv(s.proxy_program, kViewProjectionUniform, 1, GL_FALSE,
+                              glm::value_ptr(view.view_projection()));
+    glBindVertexArray(s.proxy_vao);
+    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                                reinterpret_cast<const void*>(total * sizeof(DrawCommand)),
+                                GLsizei(list.proxies.size()), 0);
+    glBindVertexArray(s.vao);
+    glUseProgram(s.program);
+    glDisable(GL_BLEND);
+  }
   if (total > opaque) {
     // Semi-transparent surfaces after the opaque ones, in the list's order, both sides,
     // tested against but not writing depth.
@@ -227,6 +256,38 @@ FrameStats Renderer::draw(const View& view, const DrawList& list) {
                                 GLsizei(total - opaque), 0);
   }
   return s.end_frame({0.0, list.triangle_count(), list.draw_count()});
+}
+
+Result<void> Renderer::set_proxies(const ProxyMesh& mesh) {
+  State& s = *state_;
+  const GLuint buffers[] = {s.proxy_vertex_buffer, s.proxy_index_buffer};
+  glDeleteBuffers(2, buffers);
+  glDeleteVertexArrays(1, &s.proxy_vao);
+  s.proxy_vertex_buffer = s.proxy_index_buffer = s.proxy_vao = 0;
+  s.proxy_index_count = 0;
+  if (mesh.indices.empty()) return {};
+  if (auto made = make_buffer(s.proxy_vertex_buffer, "proxy vertex buffer",
+                              mesh.vertices.size() * sizeof(ProxyVertex), mesh.vertices.data(), 0);
+      !made)
+    return made.error();
+  if (auto made = make_buffer(s.proxy_index_buffer, "proxy index buffer",
+                              mesh.indices.size() * sizeof(uint32_t), mesh.indices.data(), 0);
+      !made)
+    return made.error();
+  glCreateVertexArrays(1, &s.proxy_vao);
+  glVertexArrayVertexBuffer(s.proxy_vao, 0, s.proxy_vertex_buffer, 0, sizeof(ProxyVertex));
+  glVertexArrayElementBuffer(s.proxy_vao, s.proxy_index_buffer);
+  glEnableVertexArrayAttrib(s.proxy_vao, kPositionAttrib);
+  glVertexArrayAttribFormat(s.proxy_vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE,
+                            offsetof(ProxyVertex, position));
+  glVertexArrayAttribBinding(s.proxy_vao, kPositionAttrib, 0);
+  glEnableVertexArrayAttrib(s.proxy_vao, kColorAttrib);
+  glVertexArrayAttribFormat(s.proxy_vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE,
+                            offsetof(ProxyVertex, color));
+  glVertexArrayAttribBinding(s.proxy_vao, kColorAttrib, 0);
+  if (s.proxy_program == 0) s.proxy_program = build_proxy_program();
+  s.proxy_index_count = uint32_t(mesh.indices.size());
+  return {};
 }
 
 FrameStats Renderer::draw_everything_at_once(const View& view) {

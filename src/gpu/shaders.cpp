@@ -42,6 +42,24 @@ void main() {
 }
 )";
 
+// Proxies carry colours shaded when they were baked (gpu/lighting.hpp): no lighting here.
+constexpr const char* kProxyVertexShader = R"(#version 450 core
+layout(location = 0) in vec3 position;
+layout(location = 2) in vec4 color;
+layout(location = 0) uniform mat4 view_projection;
+out vec4 v_color;
+void main() {
+  gl_Position = view_projection * vec4(position, 1.0);
+  v_color = color;
+}
+)";
+
+constexpr const char* kProxyFragmentShader = R"(#version 450 core
+in vec4 v_color;
+layout(location = 0) out vec4 frag_color;
+void main() { frag_color = v_color; }
+)";
+
 GLuint compile(GLenum stage, const char* source) {
   const GLuint shader = glCreateShader(stage);
   glShaderSource(shader, 1, &source, nullptr);
@@ -58,11 +76,9 @@ GLuint compile(GLenum stage, const char* source) {
   return shader;
 }
 
-}  // namespace
-
-GLuint build_scene_program() {
-  const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
-  const GLuint fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
+GLuint link(const char* name, const char* vertex, const char* fragment) {
+  const GLuint vs = compile(GL_VERTEX_SHADER, vertex);
+  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment);
   const GLuint program = glCreateProgram();
   glAttachShader(program, vs);
   glAttachShader(program, fs);
@@ -77,9 +93,17 @@ GLuint build_scene_program() {
     glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
     std::string log(size_t(length > 0 ? length : 1), '\0');
     glGetProgramInfoLog(program, length, nullptr, log.data());
-    FF_ASSERT(ok, "scene program does not link:\n%s", log.c_str());
+    FF_ASSERT(ok, "%s program does not link:\n%s", name, log.c_str());
   }
   return program;
+}
+
+}  // namespace
+
+GLuint build_scene_program() { return link("scene", kVertexShader, kFragmentShader); }
+
+GLuint build_proxy_program() {
+  return link("proxy", kProxyVertexShader, kProxyFragmentShader);
 }
 
 }  // namespace farfield::gpu

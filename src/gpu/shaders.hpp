@@ -18,5 +18,8 @@ enum : GLint {
 // Compiles and links the scene shading program. A compile or link error is a programming
 // error: it asserts with the GL info log.
 GLuint build_scene_program();
+// The unlit program of proxy geometry: position (location 0), colour (location 2), the
+// view-projection matrix at kViewProjectionUniform.
+GLuint build_proxy_program();
 
 }  // namespace farfield::gpu

@@ -34,6 +34,10 @@ class Renderer {
   // Renders into the current framebuffer (0 = window) or an offscreen target sized
   // view.width x view.height (see set_offscreen). Clears to the sky colour first.
   FrameStats draw(const View& view, const DrawList& list);
+  // Uploads the stand-in geometry that DrawList::proxies refer to (replacing any before);
+  // an empty mesh frees it. Fails when the GPU cannot hold it.
+  Result<void> set_proxies(const ProxyMesh& mesh);
+
   // The raw bound of the benchmark: every triangle of the scene in one indexed draw with
   // the same shading and no per-object work (opaque material, no blending pass).
   FrameStats draw_everything_at_once(const View& view);
