@@ -21,6 +21,7 @@ void add_info_command(CLI::App& root, std::vector<Command>& commands);
 void add_path_command(CLI::App& root, std::vector<Command>& commands);
 void add_bench_command(CLI::App& root, std::vector<Command>& commands);
 void add_view_command(CLI::App& root, std::vector<Command>& commands);
+void add_analyze_command(CLI::App& root, std::vector<Command>& commands);
 
 // Prints "farfield: <message>" on stderr and returns 1.
 int fail(const std::string& message);

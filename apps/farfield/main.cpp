@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   add_path_command(app, commands);
   add_bench_command(app, commands);
   add_view_command(app, commands);
+  add_analyze_command(app, commands);
 
   try {
     app.parse(argc, argv);
