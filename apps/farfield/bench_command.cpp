@@ -14,6 +14,7 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
     BenchOptions bench;
     std::string path;
     std::vector<std::string> techniques{"brute", "octree"};
+    std::vector<std::string> settings;
     bool quiet = false, no_plot = false;
   };
   auto s = std::make_shared<Settings>();
@@ -30,6 +31,8 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_option("--technique,-t", s->techniques, technique_help)
       ->delimiter(',')
       ->capture_default_str();
+  cmd->add_option("--set", s->settings,
+                  "Technique setting NAME.KEY=VALUE, repeatable (e.g. colorcube.depth=6)");
   cmd->add_option("--width", s->bench.width, "Image width, pixels")->capture_default_str();
   cmd->add_option("--height", s->bench.height, "Image height, pixels")->capture_default_str();
   cmd->add_option("--hfov", s->bench.hfov_deg, "Horizontal field of view, degrees")
@@ -46,6 +49,9 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
   commands.push_back({cmd, [s] {
                         s->bench.techniques = s->techniques;
+                        for (const std::string& setting : s->settings)
+                          if (auto ok = s->bench.settings.add(setting); !ok)
+                            return fail(ok.error().message);
                         s->bench.plot = !s->no_plot;
                         auto path = read_camera_path(s->path);
                         if (!path) return fail(path.error().message);

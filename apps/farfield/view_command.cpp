@@ -24,6 +24,7 @@ namespace {
 
 struct ViewSettings {
   std::string scene, path, technique = "octree", screenshot, record;
+  std::vector<std::string> settings;
   int width = 1024, height = 768, frames = 0;
   float hfov_deg = 90.0f;
 };
@@ -64,22 +65,39 @@ int run_viewer(const ViewSettings& s) {
     if (!read) return fail(read.error().message);
     path = std::move(*read);
   }
+  TechniqueSettings settings;
+  for (const std::string& setting : s.settings)
+    if (auto ok = settings.add(setting); !ok) return fail(ok.error().message);
+  // Techniques are made for every name (so bad settings fail now) but loaded when first shown:
+  // some bake at load.
+  const auto infos = known_techniques();
   std::vector<std::unique_ptr<Technique>> techniques;
-  size_t current = 0;
-  for (const TechniqueInfo& info : known_techniques()) {
-    auto t = make_technique(info.name);
+  std::vector<bool> loaded(infos.size(), false);
+  size_t current = infos.size();
+  for (const TechniqueInfo& info : infos) {
+    auto t = make_technique(info.name, settings);
     if (!t) return fail(t.error().message);
-    if (auto ok = (*t)->load(*scene); !ok) return fail(ok.error().message);
     if (info.name == s.technique) current = techniques.size();
     techniques.push_back(std::move(*t));
   }
-  if (techniques[current]->name() != s.technique)
-    return fail(make_technique(s.technique).error().message);
+  if (current == infos.size()) return fail(make_technique(s.technique).error().message);
 
   auto window = gpu::Window::create(s.width, s.height, "farfield: " + s.scene);
   if (!window) return fail(window.error().message);
   auto renderer = gpu::Renderer::create(*scene);
   if (!renderer) return fail(renderer.error().message);
+  size_t shown = infos.size();  // the technique whose proxies are uploaded
+  auto show = [&](size_t t) -> Result<void> {
+    if (!loaded[t]) {
+      if (auto ok = techniques[t]->load(*scene); !ok) return ok;
+      loaded[t] = true;
+    }
+    if (t == shown) return {};
+    const ProxyMesh* proxies = techniques[t]->proxies();
+    if (auto ok = (*renderer)->set_proxies(proxies ? *proxies : ProxyMesh{}); !ok) return ok;
+    shown = t;
+    return {};
+  };
 
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
@@ -127,6 +145,10 @@ int run_viewer(const ViewSettings& s) {
     w.framebuffer_size(view.width, view.height);
     view.hfov_deg = s.hfov_deg;
     const auto start = std::chrono::steady_clock::now();
+    if (auto ok = show(current); !ok) {
+      exit_status = fail(ok.error().message);
+      break;
+    }
     techniques[current]->select(view, FrameBudget{}, list);
     stats = (*renderer)->draw(view, list);
     glFinish();
@@ -199,6 +221,8 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
   cmd->add_option("--path", s->path, "Camera path to play (P pauses and resumes)");
   cmd->add_option("--technique,-t", s->technique, "Technique at start")->capture_default_str();
+  cmd->add_option("--set", s->settings,
+                  "Technique setting NAME.KEY=VALUE, repeatable (e.g. colorcube.depth=6)");
   cmd->add_option("--width", s->width, "Window width, pixels")->capture_default_str()
       ->check(CLI::Range(64, 16384));
   cmd->add_option("--height", s->height, "Window height, pixels")->capture_default_str()

@@ -44,7 +44,7 @@ Result<void> check_options(const BenchOptions& o, const CameraPath& path) {
   if (o.techniques.empty()) return make_error("--technique names no technique");
   for (const std::string& name : o.techniques) {
     if (name == kRawBound) continue;
-    if (auto t = make_technique(name); !t) return t.error();
+    if (auto t = make_technique(name, o.settings); !t) return t.error();
   }
   return {};
 }
@@ -102,13 +102,16 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
     record.name = name;
     std::unique_ptr<Technique> technique;
     if (name != kRawBound) {
-      auto made = make_technique(name);
+      auto made = make_technique(name, options.settings);
       if (!made) return made.error();
       technique = std::move(*made);
       const auto start = Clock::now();
       if (auto ok = technique->load(scene); !ok) return ok.error();
       record.load_s = ms_since(start) / 1000.0;
       record.description = technique->describe();
+      const ProxyMesh* proxies = technique->proxies();
+      if (auto ok = (*renderer)->set_proxies(proxies ? *proxies : ProxyMesh{}); !ok)
+        return ok.error();
     } else {
       record.description = "all triangles in one indexed draw, no per-object work";
     }
@@ -118,6 +121,7 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
       if (technique) {
         technique->select(view, FrameBudget{}, list);
         f.cpu_ms = ms_since(start);
+        f.proxy_triangles = list.proxy_triangle_count();
         stats = (*renderer)->draw(view, list);
       } else {
         stats = (*renderer)->draw_everything_at_once(view);

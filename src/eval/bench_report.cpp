@@ -43,7 +43,7 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options,
     for (const FrameRecord& f : t.frames) {
       json frame = {{"frame_ms", f.frame_ms},   {"cpu_ms", f.cpu_ms},
                     {"gpu_ms", f.gpu_ms},       {"triangles", f.triangles},
-                    {"draw_calls", f.draw_calls}};
+                    {"draw_calls", f.draw_calls}, {"proxy_triangles", f.proxy_triangles}};
       if (f.compared) {
         frame["psnr_db"] = decibels(f.psnr_db);
         frame["identical"] = f.differing_pixels == 0;

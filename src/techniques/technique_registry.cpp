@@ -2,6 +2,7 @@
 #include <array>
 
 #include "brute/brute_technique.hpp"
+#include "colorcube/colorcube_technique.hpp"
 #include "farfield/techniques/technique.hpp"
 #include "octree/octree_technique.hpp"
 
@@ -15,13 +16,41 @@ constexpr std::array kTechniques = {
                             "leaves tested)"},
     TechniqueInfo{"octree-paper", "octree culling with paper 004's own corner-projection test, "
                                   "whole leaves drawn"},
+    TechniqueInfo{"colorcube", "colour-cube octree, paper 002 (settings: colorcube.depth, cluster, "
+                               "oversampling, coverage, threshold, alpha, pixels, threads)"},
 };
 
 }  // namespace
 
 std::span<const TechniqueInfo> known_techniques() { return kTechniques; }
 
-Result<std::unique_ptr<Technique>> make_technique(std::string_view name) {
+Result<void> TechniqueSettings::add(const std::string& assignment) {
+  const size_t dot = assignment.find('.'), equals = assignment.find('=');
+  if (dot == std::string::npos || equals == std::string::npos || dot == 0 || equals < dot + 2)
+    return make_error("--set '", assignment, "': expected TECHNIQUE.KEY=VALUE");
+  values[assignment.substr(0, equals)] = assignment.substr(equals + 1);
+  return {};
+}
+
+std::map<std::string, std::string> TechniqueSettings::for_technique(std::string_view technique) const {
+  std::map<std::string, std::string> mine;
+  const std::string prefix = std::string(technique) + ".";
+  for (const auto& [key, value] : values)
+    if (key.compare(0, prefix.size(), prefix) == 0) mine[key.substr(prefix.size())] = value;
+  return mine;
+}
+
+Result<std::unique_ptr<Technique>> make_technique(std::string_view name,
+                                                  const TechniqueSettings& settings) {
+  const auto mine = settings.for_technique(name);
+  if (name == "colorcube") {
+    auto options = colorcube_options(mine);
+    if (!options) return options.error();
+    return std::unique_ptr<Technique>(std::make_unique<ColorcubeTechnique>(*options));
+  }
+  if (!mine.empty())
+    return make_error("--set ", std::string(name), ".", mine.begin()->first, ": ",
+                      std::string(name), " has no settings");
   if (name == "brute") return std::unique_ptr<Technique>(std::make_unique<BruteTechnique>());
   if (name == "octree")
     return std::unique_ptr<Technique>(

@@ -12,6 +12,7 @@
 #include "farfield/core/progress.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/scene/scene.hpp"
+#include "farfield/techniques/technique.hpp"
 
 namespace farfield {
 
@@ -22,6 +23,7 @@ inline constexpr const char* kRawBound = "raw";
 struct BenchOptions {
   std::string scene_file;               // for the report
   std::vector<std::string> techniques;  // brute is always run (first) as the reference
+  TechniqueSettings settings;           // --set NAME.KEY=VALUE
   int width = 1024, height = 768;
   float hfov_deg = 90.0f;
   std::string out_dir;
@@ -34,6 +36,7 @@ struct BenchOptions {
 struct FrameRecord {
   double frame_ms = 0, cpu_ms = 0, gpu_ms = 0;
   uint64_t triangles = 0, draw_calls = 0;
+  uint64_t proxy_triangles = 0;  // of the triangles, stand-ins (two per colour-cube face)
   bool compared = false;  // a brute reference exists for this frame
   double psnr_db = 0;     // infinite when identical
   uint64_t differing_pixels = 0;

@@ -4,7 +4,9 @@
 // from drawing. Baking into a store arrives with the first technique that needs one.
 #pragma once
 
+#include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -30,6 +32,20 @@ class Technique {
   virtual void select(const View& view, const FrameBudget& budget, DrawList& out) = 0;
   // One line on what load built (nodes, depth, ...), for reports.
   virtual std::string describe() const { return {}; }
+  // Stand-in geometry that the technique's DrawList::proxies refer to, if any; valid after
+  // load() for the technique's lifetime. The renderer uploads it (Renderer::set_proxies).
+  virtual const ProxyMesh* proxies() const { return nullptr; }
+};
+
+// Technique settings from the command line (`--set NAME.KEY=VALUE`, e.g. colorcube.depth=6):
+// each technique reads the keys under its own name and refuses the ones it does not know.
+struct TechniqueSettings {
+  std::map<std::string, std::string> values;  // "colorcube.depth" -> "6"
+
+  // Parses "NAME.KEY=VALUE"; the message names the setting and the problem.
+  Result<void> add(const std::string& assignment);
+  // The keys under `technique` ("depth" for "colorcube.depth").
+  std::map<std::string, std::string> for_technique(std::string_view technique) const;
 };
 
 // The techniques this build knows, with a line each for --help.
@@ -39,7 +55,9 @@ struct TechniqueInfo {
 };
 std::span<const TechniqueInfo> known_techniques();
 
-// A new technique by name; an unknown name is an error that lists the known ones.
-Result<std::unique_ptr<Technique>> make_technique(std::string_view name);
+// A new technique by name; an unknown name is an error that lists the known ones, an unknown
+// or malformed setting one that names it.
+Result<std::unique_ptr<Technique>> make_technique(std::string_view name,
+                                                  const TechniqueSettings& settings = {});
 
 }  // namespace farfield

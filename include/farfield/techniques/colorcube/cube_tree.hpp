@@ -1,0 +1,64 @@
+// The colour-cube octree of paper 002 (Sec. 4.1, 4.2): the scene's bounding cube subdivided
+// to a depth, every triangle associated with each leaf it overlaps, empty cells pruned; each
+// cell holds a cluster of c x c x c colour-cubes, the leaves' baked from their triangles
+// (leaf_baker.hpp), the parents' combined from their children's. Faces whose coverage does
+// not exceed a threshold are dropped; the rest become proxy quads, kept in six batches per
+// cell (one per orientation) so that a frame draws only the orientations facing the eye.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "farfield/core/bounds.hpp"
+#include "farfield/core/progress.hpp"
+#include "farfield/core/result.hpp"
+#include "farfield/scene/scene.hpp"
+#include "farfield/techniques/colorcube/leaf_baker.hpp"
+#include "farfield/techniques/draw_list.hpp"
+
+namespace farfield {
+
+struct CubeTreeOptions {
+  int depth = 0;  // levels below the root; 0 derives it from triangle density (paper 002, 6.4)
+  int triangles_per_leaf = 4000;  // the density target when depth is derived
+  LeafBakeOptions leaf{.oversampling = 1, .cluster = 4, .coverage = CoverageMode::binary};
+  float coverage_threshold = 0.0f;  // a face is drawn when its coverage exceeds this
+  bool coverage_as_alpha = false;   // draw coverage as transparency (paper 002, Sec. 4.1)
+  int threads = 0;                  // leaf bake threads; 0: all cores
+};
+
+struct CubeCell {
+  Bounds3 bounds;            // a cube
+  uint32_t first_child = 0;  // children contiguous in `cells`
+  uint32_t child_count = 0;  // 0 for a leaf
+  uint32_t level = 0;        // 0 at the root
+  uint32_t objects_begin = 0, objects_end = 0;  // leaves: objects to draw, in `leaf_objects`
+  // Proxy index ranges of the cell's drawn faces, one per orientation (face index of
+  // color_cube.hpp), into CubeTree::proxies.indices.
+  std::array<uint32_t, 6> faces_begin{}, faces_count{};
+  bool leaf() const { return child_count == 0; }
+};
+
+struct CubeTreeStats {  // paper 002, Table 1
+  uint32_t cells = 0, leaves = 0, levels = 0, cluster = 0, oversampling = 0;
+  uint64_t cube_faces = 0;         // faces kept in the model (drawable)
+  double leaf_bake_s = 0;          // phase I: leaves rendered
+  double hierarchy_s = 0;          // phase II: parents combined, proxies built
+};
+
+struct CubeTree {
+  std::vector<CubeCell> cells;  // root first
+  std::vector<uint32_t> leaf_objects;
+  ProxyMesh proxies;
+  CubeTreeStats stats;
+};
+
+Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& options,
+                                 Progress& progress);
+
+// The depth build_cube_tree uses when options.depth is 0.
+int derived_depth(const Scene& scene, int triangles_per_leaf);
+
+}  // namespace farfield

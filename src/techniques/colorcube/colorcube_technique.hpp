@@ -1,0 +1,44 @@
+// colorcube: the colour-cube octree of paper 002, walked like Barnes-Hut (Sec. 3.1): cells
+// outside the frustum are skipped (the paper planned this, Sec. 6.4); a cell whose cubes
+// project below the pixel tolerance (cube size / depth < epsilon) draws its cube faces, only
+// the orientations that can face the eye; a leaf nearer than that draws its objects (each once
+// per frame); other cells recurse into their children, nearest first.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "farfield/techniques/colorcube/cube_tree.hpp"
+#include "farfield/techniques/object_set.hpp"
+#include "farfield/techniques/technique.hpp"
+
+namespace farfield {
+
+struct ColorcubeOptions {
+  CubeTreeOptions tree;
+  float pixel_tolerance = 1.0f;  // epsilon as pixels at the view's resolution and field of view
+};
+
+// Reads `depth`, `cluster`, `oversampling`, `coverage` (binary|fraction), `threshold`,
+// `alpha` (0|1), `pixels`, `threads`.
+Result<ColorcubeOptions> colorcube_options(const std::map<std::string, std::string>& settings);
+
+class ColorcubeTechnique final : public Technique {
+ public:
+  explicit ColorcubeTechnique(const ColorcubeOptions& options) : options_(options) {}
+  std::string_view name() const override { return "colorcube"; }
+  Result<void> load(const Scene& scene) override;
+  void select(const View& view, const FrameBudget& budget, DrawList& out) override;
+  std::string describe() const override;
+  const ProxyMesh* proxies() const override { return &tree_.proxies; }
+  const CubeTree& tree() const { return tree_; }
+
+ private:
+  ColorcubeOptions options_;
+  CubeTree tree_;
+  std::unique_ptr<ObjectSet> objects_;
+  std::vector<uint32_t> stack_;
+};
+
+}  // namespace farfield

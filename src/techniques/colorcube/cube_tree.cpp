@@ -1,0 +1,272 @@
+#include "farfield/techniques/colorcube/cube_tree.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "farfield/core/assert.hpp"
+
+namespace farfield {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+Bounds3 bounding_cube(const Bounds3& b) {
+  const float half = 0.5f * std::max({b.size().x, b.size().y, b.size().z}) * 1.0001f + 1e-4f;
+  Bounds3 cube;
+  cube.min = b.center() - glm::vec3(half);
+  cube.max = b.center() + glm::vec3(half);
+  return cube;
+}
+
+Bounds3 octant(const Bounds3& cube, int child) {
+  const glm::vec3 mid = cube.center();
+  Bounds3 b;
+  for (int a = 0; a < 3; ++a) {
+    const bool upper = (child >> a) & 1;
+    b.min[a] = upper ? mid[a] : cube.min[a];
+    b.max[a] = upper ? cube.max[a] : mid[a];
+  }
+  return b;
+}
+
+// The octants a box overlaps, as a bit mask over child indices.
+uint32_t octant_mask(const Bounds3& cube, const glm::vec3& lo, const glm::vec3& hi) {
+  const glm::vec3 mid = cube.center();
+  uint32_t mask = 0;
+  for (int child = 0; child < 8; ++child) {
+    bool overlaps = true;
+    for (int a = 0; a < 3 && overlaps; ++a) {
+      const bool upper = (child >> a) & 1;
+      overlaps = upper ? hi[a] >= mid[a] && lo[a] <= cube.max[a] : lo[a] < mid[a] && hi[a] >= cube.min[a];
+    }
+    if (overlaps) mask |= 1u << child;
+  }
+  return mask;
+}
+
+struct Builder {
+  const Scene& scene;
+  const CubeTreeOptions& options;
+  int depth;
+  CubeTree& tree;
+  std::vector<std::vector<uint32_t>> leaf_triangles;  // by leaf order
+  std::vector<uint32_t> leaf_cells;                   // cell of each leaf
+
+  void triangle_box(uint32_t t, glm::vec3& lo, glm::vec3& hi) const {
+    const uint32_t* idx = scene.indices.data() + size_t(t) * 3;
+    lo = hi = scene.vertices[idx[0]].position;
+    for (int i = 1; i < 3; ++i) {
+      lo = glm::min(lo, scene.vertices[idx[i]].position);
+      hi = glm::max(hi, scene.vertices[idx[i]].position);
+    }
+  }
+
+  // Fills cell `index` from its triangles and objects, depth first (paper 002, Sec. 4.1:
+  // each primitive goes to every leaf it lies in; empty cells are pruned).
+  void fill(uint32_t index, std::vector<uint32_t> triangles, std::vector<uint32_t> objects) {
+    CubeCell& cell = tree.cells[index];
+    if (int(cell.level) == depth) {
+      cell.objects_begin = uint32_t(tree.leaf_objects.size());
+      tree.leaf_objects.insert(tree.leaf_objects.end(), objects.begin(), objects.end());
+      tree.cells[index].objects_end = uint32_t(tree.leaf_objects.size());
+      leaf_cells.push_back(index);
+      leaf_triangles.push_back(std::move(triangles));
+      return;
+    }
+    const Bounds3 cube = cell.bounds;
+    const uint32_t level = cell.level;
+    std::array<std::vector<uint32_t>, 8> child_triangles, child_objects;
+    glm::vec3 lo, hi;
+    for (uint32_t t : triangles) {
+      triangle_box(t, lo, hi);
+      for (uint32_t m = octant_mask(cube, lo, hi); m != 0; m &= m - 1)
+        child_triangles[std::countr_zero(m)].push_back(t);
+    }
+    triangles = {};
+    for (uint32_t o : objects) {
+      const Bounds3& b = scene.objects[o].bounds;
+      for (uint32_t m = octant_mask(cube, b.min, b.max); m != 0; m &= m - 1)
+        child_objects[std::countr_zero(m)].push_back(o);
+    }
+    objects = {};
+    const uint32_t first = uint32_t(tree.cells.size());
+    uint32_t count = 0;
+    for (int c = 0; c < 8; ++c) {
+      if (child_triangles[c].empty()) continue;
+      CubeCell child;
+      child.bounds = octant(cube, c);
+      child.level = level + 1;
+      tree.cells.push_back(child);
+      ++count;
+    }
+    tree.cells[index].first_child = first;
+    tree.cells[index].child_count = count;
+    uint32_t slot = first;
+    for (int c = 0; c < 8; ++c) {
+      if (child_triangles[c].empty()) continue;
+      fill(slot++, std::move(child_triangles[c]), std::move(child_objects[c]));
+    }
+  }
+};
+
+// Appends the quad of `face` of the box [lo, hi], counter-clockwise seen from outside.
+void add_face_quad(ProxyMesh& mesh, const glm::vec3& lo, const glm::vec3& hi, int face,
+                   uint32_t color) {
+  const int a = face_axis(face), u = (a + 1) % 3, v = (a + 2) % 3;
+  const bool positive = face_sign(face) > 0;
+  glm::vec3 corner[4];
+  const float uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};  // counter-clockwise seen from +a
+  for (int i = 0; i < 4; ++i) {
+    corner[i][a] = positive ? hi[a] : lo[a];
+    corner[i][u] = uv[i][0] > 0 ? hi[u] : lo[u];
+    corner[i][v] = uv[i][1] > 0 ? hi[v] : lo[v];
+  }
+  const uint32_t base = uint32_t(mesh.vertices.size());
+  for (const glm::vec3& p : corner) mesh.vertices.push_back({p, color});
+  if (positive)
+    mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  else
+    mesh.indices.insert(mesh.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
+}
+
+}  // namespace
+
+int derived_depth(const Scene& scene, int triangles_per_leaf) {
+  // paper 002, Sec. 6.4: depth from primitive density. Deepen while the occupied cells of the
+  // level (counted by triangle centroid) hold more than the target on average.
+  const Bounds3 cube = bounding_cube(scene.bounds);
+  const uint64_t n = scene.triangle_count();
+  std::vector<uint64_t> keys(n);
+  for (int depth = 1; depth <= 10; ++depth) {
+    const float cells = float(1 << depth);
+    const glm::vec3 scale = glm::vec3(cells) / cube.size();
+    for (uint64_t t = 0; t < n; ++t) {
+      const uint32_t* idx = scene.indices.data() + t * 3;
+      const glm::vec3 c = (scene.vertices[idx[0]].position + scene.vertices[idx[1]].position +
+                           scene.vertices[idx[2]].position) / 3.0f;
+      const glm::uvec3 g = glm::clamp(glm::uvec3((c - cube.min) * scale), glm::uvec3(0),
+                                      glm::uvec3(uint32_t(cells) - 1));
+      keys[t] = (uint64_t(g.x) << 40) | (uint64_t(g.y) << 20) | g.z;
+    }
+    std::sort(keys.begin(), keys.end());
+    const uint64_t occupied = uint64_t(std::unique(keys.begin(), keys.end()) - keys.begin());
+    if (occupied == 0 || n / occupied <= uint64_t(triangles_per_leaf)) return depth;
+  }
+  return 10;
+}
+
+Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, Progress& progress) {
+  if (o.depth < 0 || o.depth > 12) return make_error("depth must be within 0..12 (got ", std::to_string(o.depth), ")");
+  if (o.leaf.oversampling < 1 || o.leaf.oversampling > 5)
+    return make_error("oversampling must be within 1..5 (got ", std::to_string(o.leaf.oversampling), ")");
+  if (o.leaf.cluster < 1 || o.leaf.cluster > 32)
+    return make_error("cluster must be within 1..32 (got ", std::to_string(o.leaf.cluster), ")");
+  if (!(o.coverage_threshold >= 0.0f && o.coverage_threshold < 1.0f))
+    return make_error("coverage threshold must be within [0, 1)");
+  if (scene.triangle_count() == 0) return make_error("the scene has no triangles");
+
+  const auto start = Clock::now();
+  CubeTree tree;
+  const int depth = o.depth > 0 ? o.depth : derived_depth(scene, o.triangles_per_leaf);
+  Builder builder{scene, o, depth, tree, {}, {}};
+  CubeCell root;
+  root.bounds = bounding_cube(scene.bounds);
+  tree.cells.push_back(root);
+  std::vector<uint32_t> triangles(scene.triangle_count()), objects(scene.objects.size());
+  for (uint32_t t = 0; t < triangles.size(); ++t) triangles[t] = t;
+  for (uint32_t i = 0; i < objects.size(); ++i) objects[i] = i;
+  builder.fill(0, std::move(triangles), std::move(objects));
+
+  // Phase I (paper 002, Sec. 5.1): render every leaf, on every core.
+  const int c = o.leaf.cluster, per_cell = c * c * c;
+  std::vector<ColorCube> cubes(tree.cells.size() * size_t(per_cell));
+  const std::vector<uint32_t> materials = triangle_materials(scene);
+  const size_t leaves = builder.leaf_cells.size();
+  std::atomic<size_t> next{0}, done{0};
+  auto work = [&] {
+    for (size_t i; (i = next.fetch_add(1)) < leaves; done.fetch_add(1)) {
+      const uint32_t cell = builder.leaf_cells[i];
+      std::vector<ColorCube> baked =
+          bake_leaf(scene, materials, builder.leaf_triangles[i], tree.cells[cell].bounds, o.leaf);
+      std::copy(baked.begin(), baked.end(), cubes.begin() + size_t(cell) * per_cell);
+      builder.leaf_triangles[i] = {};
+    }
+  };
+  const unsigned threads = o.threads > 0 ? unsigned(o.threads) : std::max(1u, std::thread::hardware_concurrency());
+  progress.start("bake colour-cube leaves", leaves);
+  std::vector<std::thread> pool;
+  for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work);
+  for (size_t reported = 0; reported < leaves;) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const size_t now = done.load();
+    progress.advance(now - reported);
+    reported = now;
+  }
+  for (auto& t : pool) t.join();
+  progress.finish();
+  tree.stats.leaf_bake_s = std::chrono::duration<double>(Clock::now() - start).count();
+
+  // Phase II: parents from children, deepest first (children follow their parent in `cells`).
+  const auto phase2 = Clock::now();
+  for (size_t i = tree.cells.size(); i-- > 0;) {
+    const CubeCell& cell = tree.cells[i];
+    if (cell.leaf()) continue;
+    std::array<int, 8> child_of_octant;
+    child_of_octant.fill(-1);
+    for (uint32_t k = 0; k < cell.child_count; ++k) {
+      const CubeCell& child = tree.cells[cell.first_child + k];
+      const glm::vec3 d = child.bounds.center() - cell.bounds.center();
+      child_of_octant[(d.x > 0) | (d.y > 0) << 1 | (d.z > 0) << 2] = int(cell.first_child + k);
+    }
+    // Parent cube p of the cluster covers cubes 2p .. 2p+1 of a grid 2c wide over the children.
+    for (int pz = 0; pz < c; ++pz)
+      for (int py = 0; py < c; ++py)
+        for (int px = 0; px < c; ++px) {
+          std::array<ColorCube, 8> parts{};
+          for (int sub = 0; sub < 8; ++sub) {
+            const int g[3] = {2 * px + (sub & 1), 2 * py + ((sub >> 1) & 1), 2 * pz + ((sub >> 2) & 1)};
+            const int oct = (g[0] / c) | (g[1] / c) << 1 | (g[2] / c) << 2;
+            if (child_of_octant[oct] < 0) continue;
+            const int l[3] = {g[0] % c, g[1] % c, g[2] % c};
+            parts[sub] = cubes[size_t(child_of_octant[oct]) * per_cell + l[0] + c * (l[1] + c * l[2])];
+          }
+          cubes[i * per_cell + px + c * (py + c * pz)] = combine(parts);
+        }
+  }
+
+  // Proxy quads, six batches per cell (paper 002, Sec. 4.2).
+  for (size_t i = 0; i < tree.cells.size(); ++i) {
+    CubeCell& cell = tree.cells[i];
+    const glm::vec3 step = cell.bounds.size() / float(c);
+    for (int face = 0; face < 6; ++face) {
+      cell.faces_begin[face] = uint32_t(tree.proxies.indices.size());
+      for (int z = 0; z < c; ++z)
+        for (int y = 0; y < c; ++y)
+          for (int x = 0; x < c; ++x) {
+            const FaceColor& f = cubes[i * per_cell + x + c * (y + c * z)].faces[face];
+            if (f.coverage <= o.coverage_threshold) continue;
+            const glm::vec3 lo = cell.bounds.min + step * glm::vec3(x, y, z);
+            add_face_quad(tree.proxies, lo, lo + step, face,
+                          pack_color(glm::vec4(f.rgb, o.coverage_as_alpha ? f.coverage : 1.0f)));
+          }
+      cell.faces_count[face] = uint32_t(tree.proxies.indices.size()) - cell.faces_begin[face];
+    }
+  }
+  if (tree.proxies.vertices.size() >= UINT32_MAX)
+    return make_error("the colour-cube model needs more than 2^32 proxy vertices; lower the depth or cluster");
+  tree.stats.hierarchy_s = std::chrono::duration<double>(Clock::now() - phase2).count();
+  tree.stats.cells = uint32_t(tree.cells.size());
+  tree.stats.leaves = uint32_t(leaves);
+  tree.stats.levels = uint32_t(depth + 1);
+  tree.stats.cluster = uint32_t(c);
+  tree.stats.oversampling = uint32_t(o.leaf.oversampling);
+  tree.stats.cube_faces = tree.proxies.indices.size() / 6;
+  return tree;
+}
+
+}  // namespace farfield

@@ -1,0 +1,135 @@
+// The colour-cube octree (paper 002, Sec. 4) and the colorcube technique's traversal.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "farfield/eval/image_metrics.hpp"
+#include "farfield/gpu/context.hpp"
+#include "farfield/gpu/lighting.hpp"
+#include "farfield/gpu/renderer.hpp"
+#include "farfield/techniques/colorcube/cube_tree.hpp"
+#include "farfield/techniques/technique.hpp"
+#include "test_util.hpp"
+
+namespace farfield {
+namespace {
+
+// A grid of n x n unit boxes, 3 m apart, on the ground.
+Scene box_field(int n) {
+  Scene scene;
+  const Scene box = test::make_box_row(1);
+  SceneBuilder b(scene);
+  const uint32_t m = b.add_material(Material{{0.8f, 0.2f, 0.1f, 1.0f}});
+  for (int i = 0; i < n * n; ++i) {
+    b.begin_object("box" + std::to_string(i), ObjectKind::mesh, m);
+    const glm::vec3 offset(3.0f * float(i % n), 0.0f, 3.0f * float(i / n));
+    for (const Vertex& v : box.vertices) b.add_vertex(v.position + offset, unpack_normal(v.normal), v.color);
+    for (size_t k = 0; k < box.indices.size(); k += 3)
+      b.add_triangle(box.indices[k], box.indices[k + 1], box.indices[k + 2]);
+    b.end_object();
+  }
+  return scene;
+}
+
+TEST(CubeTree, BuildsPrunedLevelsWithLeafObjectsAndFaceBatches) {
+  const Scene scene = box_field(4);
+  Progress quiet(true);
+  CubeTreeOptions options;
+  options.depth = 3;
+  options.leaf.cluster = 2;
+  auto tree = build_cube_tree(scene, options, quiet);
+  ASSERT_TRUE(tree) << tree.error().message;
+  EXPECT_EQ(tree->stats.levels, 4u);
+  EXPECT_LT(tree->stats.cells, 1u + 8u + 64u + 512u);  // empty cells pruned
+  uint32_t leaves = 0;
+  for (const CubeCell& cell : tree->cells) {
+    if (!cell.leaf()) continue;
+    ++leaves;
+    EXPECT_EQ(cell.level, 3u);
+    EXPECT_GT(cell.objects_end, cell.objects_begin);  // a leaf with triangles has objects
+  }
+  EXPECT_EQ(leaves, tree->stats.leaves);
+  // Every face batch lies inside the proxy mesh, six indices per quad.
+  uint64_t faces = 0;
+  for (const CubeCell& cell : tree->cells) {
+    for (int f = 0; f < 6; ++f) {
+      EXPECT_EQ(cell.faces_count[f] % 6, 0u);
+      EXPECT_LE(cell.faces_begin[f] + cell.faces_count[f], tree->proxies.indices.size());
+      faces += cell.faces_count[f] / 6;
+    }
+  }
+  EXPECT_EQ(faces, tree->stats.cube_faces);
+  // The root's top faces (seen from +Y) are the boxes' lit tops.
+  const CubeCell& root = tree->cells[0];
+  ASSERT_GT(root.faces_count[2], 0u);
+  const ProxyVertex& v = tree->proxies.vertices[tree->proxies.indices[root.faces_begin[2]]];
+  const glm::vec3 top = gpu::shade({0, 1, 0}, {0.8f, 0.2f, 0.1f});
+  const glm::vec4 drawn = unpack_color(v.color);
+  EXPECT_NEAR(drawn.r, top.r, 0.01f);
+  EXPECT_NEAR(drawn.g, top.g, 0.01f);
+}
+
+TEST(CubeTree, RefusesBadOptions) {
+  const Scene scene = box_field(2);
+  Progress quiet(true);
+  CubeTreeOptions o;
+  o.leaf.oversampling = 6;
+  EXPECT_FALSE(build_cube_tree(scene, o, quiet));
+  o = {};
+  o.depth = 40;
+  EXPECT_FALSE(build_cube_tree(scene, o, quiet));
+  EXPECT_FALSE(build_cube_tree(Scene{}, CubeTreeOptions{}, quiet));
+  TechniqueSettings settings;
+  ASSERT_TRUE(settings.add("colorcube.warp=9"));
+  auto t = make_technique("colorcube", settings);
+  ASSERT_FALSE(t);
+  EXPECT_NE(t.error().message.find("warp"), std::string::npos);
+  EXPECT_FALSE(settings.add("depth=3"));  // no technique name
+}
+
+TEST(CubeTree, DerivedDepthGrowsWithDensity) {
+  EXPECT_LE(derived_depth(box_field(2), 1000), derived_depth(box_field(2), 4));
+  EXPECT_GE(derived_depth(box_field(8), 12), 2);
+}
+
+TEST(ColorcubeGL, FarCubesStandInAndNearGeometryIsExact) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  const Scene scene = box_field(16);
+  auto renderer = gpu::Renderer::create(scene);
+  ASSERT_TRUE(renderer);
+  TechniqueSettings settings;
+  ASSERT_TRUE(settings.add("colorcube.depth=4"));
+  ASSERT_TRUE(settings.add("colorcube.cluster=2"));
+  auto brute = make_technique("brute");
+  auto cubes = make_technique("colorcube", settings);
+  ASSERT_TRUE(cubes) << cubes.error().message;
+  ASSERT_TRUE((*brute)->load(scene));
+  ASSERT_TRUE((*cubes)->load(scene));
+  ASSERT_TRUE((*renderer)->set_proxies(*(*cubes)->proxies()));
+
+  View far;
+  far.width = 160;
+  far.height = 120;
+  far.pose = {{22.0f, 150.0f, -120.0f}, 90.0f, -50.0f};  // high above, looking at the field
+  (*renderer)->set_offscreen(far.width, far.height);
+  DrawList all, selected;
+  (*brute)->select(far, {}, all);
+  (*renderer)->draw(far, all);
+  const Image reference = (*renderer)->capture();
+  (*cubes)->select(far, {}, selected);
+  EXPECT_GT(selected.proxies.size(), 0u);
+  EXPECT_LT(selected.triangle_count(), all.triangle_count());
+  (*renderer)->draw(far, selected);
+  const ImageComparison c = compare_images(reference, (*renderer)->capture());
+  EXPECT_GT(c.psnr_db, 20.0) << c.differing_pixels << " pixels differ";
+
+  // Close to a box, the near cells draw their objects: no cubes in front of it.
+  View near = far;
+  near.pose = {{1.5f, 0.5f, -2.0f}, 90.0f, 0.0f};
+  (*cubes)->select(near, {}, selected);
+  EXPECT_GT(selected.opaque.size(), 0u);
+}
+
+}  // namespace
+}  // namespace farfield
