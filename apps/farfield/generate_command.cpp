@@ -1,4 +1,4 @@
-// farfield generate city | field
+// farfield generate city | field | tree | landscape
 #include <chrono>
 #include <cstdio>
 
@@ -6,7 +6,9 @@
 #include "farfield/scene/city_generator.hpp"
 #include "farfield/scene/field_generator.hpp"
 #include "farfield/scene/import.hpp"
+#include "farfield/scene/landscape_generator.hpp"
 #include "farfield/scene/scene_file.hpp"
+#include "farfield/scene/tree_generator.hpp"
 
 namespace farfield::cli {
 
@@ -117,13 +119,101 @@ void add_field(CLI::App& generate, std::vector<Command>& commands) {
                       }});
 }
 
+void add_tree(CLI::App& generate, std::vector<Command>& commands) {
+  struct Settings {
+    TreeOptions tree;
+    std::string out;
+    bool quiet = false;
+  };
+  auto s = std::make_shared<Settings>();
+  TreeOptions& t = s->tree;
+  CLI::App* cmd = generate.add_subcommand(
+      "tree", "An L-system tree of branch cylinders and double-sided leaves (paper 002, Sec. 5). "
+              "The default is 10 m tall with about 52K triangles in 28 objects.");
+  cmd->add_option("--out,-o", s->out, "Output .ffscene file")->required();
+  cmd->add_option("--seed", t.seed, "Random seed; the same seed and options give the same file")
+      ->capture_default_str();
+  cmd->add_option("--iterations", t.iterations,
+                  "Rewriting steps of the L-system; each one triples the default tree")
+      ->capture_default_str();
+  cmd->add_option("--height", t.height, "Height of the branches' top, m")->capture_default_str();
+  cmd->add_option("--branch-angle", t.branch_angle_deg, "Turn of + - & ^, degrees")
+      ->capture_default_str();
+  cmd->add_option("--divergence", t.divergence_deg, "Roll of / \\, degrees")
+      ->capture_default_str();
+  cmd->add_option("--length-ratio", t.length_ratio, "Branch length / parent's length")
+      ->capture_default_str();
+  cmd->add_option("--radius-ratio", t.radius_ratio, "Branch radius / parent's radius")
+      ->capture_default_str();
+  cmd->add_option("--taper", t.segment_taper, "Radius at the end of a segment / at its start")
+      ->capture_default_str();
+  cmd->add_option("--jitter", t.jitter, "Random variation of angles and lengths, fraction")
+      ->capture_default_str();
+  cmd->add_option("--leaf-size", t.leaf_size, "Length of a leaf, m")->capture_default_str();
+  cmd->add_option("--leaves", t.leaves, "Leaves per L symbol (per twig); 0 for a bare tree")
+      ->capture_default_str();
+  cmd->add_option("--sides", t.sides, "Sides of a branch cylinder")->capture_default_str();
+  cmd->add_option("--objects", t.objects,
+                  "About this many objects: the trunk and subtrees; 1 for one object")
+      ->capture_default_str();
+  cmd->add_option("--axiom", t.axiom, "The L-system's start string")->capture_default_str();
+  cmd->add_option("--rule", t.rules,
+                  "A rewriting rule LETTER=SUCCESSOR, repeatable; replaces the default rules")
+      ->capture_default_str();
+  cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
+  commands.push_back({cmd, [s] {
+                        const auto start = std::chrono::steady_clock::now();
+                        Progress progress(s->quiet);
+                        auto scene = generate_tree(s->tree, progress);
+                        progress.finish();
+                        if (!scene) return fail(scene.error().message);
+                        return write_and_report(*scene, s->out, start);
+                      }});
+}
+
+void add_landscape(CLI::App& generate, std::vector<Command>& commands) {
+  struct Settings {
+    LandscapeOptions landscape;
+    std::string out;
+    bool quiet = false;
+  };
+  auto s = std::make_shared<Settings>();
+  LandscapeOptions& l = s->landscape;
+  CLI::App* cmd = generate.add_subcommand(
+      "landscape", "Hills of fractal noise in square tiles, with groves of L-system trees (paper "
+                   "002, Sec. 5). The default is 1 km x 1 km with about 2M triangles.");
+  cmd->add_option("--out,-o", s->out, "Output .ffscene file")->required();
+  cmd->add_option("--seed", l.seed, "Random seed; the same seed and options give the same file")
+      ->capture_default_str();
+  cmd->add_option("--size", l.size, "Side of the square terrain, m")->capture_default_str();
+  cmd->add_option("--resolution", l.resolution, "Grid cells per side of the terrain")
+      ->capture_default_str();
+  cmd->add_option("--tile", l.tile_cells, "Grid cells per side of a terrain tile (object)")
+      ->capture_default_str();
+  cmd->add_option("--relief", l.relief, "Height between the lowest and highest ground, m")
+      ->capture_default_str();
+  cmd->add_option("--trees", l.trees, "Number of trees")->capture_default_str();
+  cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
+  commands.push_back({cmd, [s] {
+                        const auto start = std::chrono::steady_clock::now();
+                        Progress progress(s->quiet);
+                        auto scene = generate_landscape(s->landscape, progress);
+                        progress.finish();
+                        if (!scene) return fail(scene.error().message);
+                        return write_and_report(*scene, s->out, start);
+                      }});
+}
+
 }  // namespace
 
 void add_generate_commands(CLI::App& root, std::vector<Command>& commands) {
-  CLI::App* generate = root.add_subcommand("generate", "Generate a scene: city or field");
+  CLI::App* generate =
+      root.add_subcommand("generate", "Generate a scene: city, field, tree or landscape");
   generate->require_subcommand(1);
   add_city(*generate, commands);
   add_field(*generate, commands);
+  add_tree(*generate, commands);
+  add_landscape(*generate, commands);
 }
 
 }  // namespace farfield::cli

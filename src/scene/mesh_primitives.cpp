@@ -275,4 +275,30 @@ void l_shape(SceneBuilder& b, const glm::vec2& lo, const glm::vec2& hi, float ar
   prism(b, p, y0, y1, color, 3);
 }
 
+void tube(SceneBuilder& b, const glm::vec3& p0, const glm::vec3& p1, float r0, float r1,
+          const glm::vec3& side, int sides, uint32_t color) {
+  const glm::vec3 axis = p1 - p0;
+  const float length = glm::length(axis);
+  FF_ASSERT(r0 > 0.0f && r1 > 0.0f && length > 0.0f, "r0 %g r1 %g length %g", r0, r1, length);
+  const glm::vec3 a = axis / length;
+  const glm::vec3 e1 = glm::normalize(side - glm::dot(side, a) * a), e2 = glm::cross(a, e1);
+  const Circle circle(sides);
+  const uint32_t first = b.vertex_count(), n = static_cast<uint32_t>(sides);
+  for (int end = 0; end < 2; ++end) {
+    const glm::vec3 c = end ? p1 : p0;
+    const float r = end ? r1 : r0;
+    for (int i = 0; i < sides; ++i) {
+      const glm::vec3 d = circle.dir[i].x * e1 + circle.dir[i].y * e2;
+      // The normal leans towards the narrow end by the slope of the side.
+      b.add_vertex(c + r * d, glm::normalize(d * length + a * (r0 - r1)), color);
+    }
+  }
+  // Going round from e1 to e2 = a x e1 is counter-clockwise seen from outside.
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t j = (i + 1) % n;
+    b.add_triangle(first + i, first + j, first + n + j);
+    b.add_triangle(first + i, first + n + j, first + n + i);
+  }
+}
+
 }  // namespace farfield::mesh

@@ -112,4 +112,11 @@ void prism(SceneBuilder& b, std::span<const glm::vec2> polygon, float y0, float 
 void l_shape(SceneBuilder& b, const glm::vec2& min, const glm::vec2& max, float arm, int corner,
              float y0, float y1, uint32_t color);
 
+// Side of a truncated cone along an arbitrary axis (a branch): radius r0 at p0, r1 at p1 (both
+// > 0). The ring starts in direction `side` (any vector not parallel to the axis), so joined
+// segments can line up their rings. Smooth normals facing out, open ends.
+// 2 * sides vertices, 2 * sides triangles.
+void tube(SceneBuilder& b, const glm::vec3& p0, const glm::vec3& p1, float r0, float r1,
+          const glm::vec3& side, int sides, uint32_t color);
+
 }  // namespace farfield::mesh

@@ -20,6 +20,7 @@ std::string_view object_kind_name(ObjectKind kind) {
     case ObjectKind::street: return "street";
     case ObjectKind::curb: return "curb";
     case ObjectKind::ground: return "ground";
+    case ObjectKind::terrain: return "terrain";
     case ObjectKind::count_: break;
   }
   return "unknown";

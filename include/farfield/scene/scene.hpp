@@ -33,7 +33,8 @@ enum class ObjectKind : uint8_t {
   street = 5,
   curb = 6,
   ground = 7,    // the raised ground (sidewalk) of a block
-  count_ = 8,
+  terrain = 8,   // one tile of a landscape's height field
+  count_ = 9,
 };
 
 std::string_view object_kind_name(ObjectKind kind);

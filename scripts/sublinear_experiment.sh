@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# The sub-linear experiment of paper 002 (Sec. 6.3, App. B): fields of 1, 4, 16, 64 and 256
+# copies of a tree stretching away from a fixed viewer, the colour-cube octree one level
+# deeper each time the field quadruples; brute force and colorcube benched on each, and one
+# plot of frame time and drawn triangles against scene size.
+#
+#   scripts/sublinear_experiment.sh TREE.ffscene OUT_DIR [FRAMES] [BASE_DEPTH]
+set -euo pipefail
+tree=${1:?usage: $0 TREE.ffscene OUT_DIR [FRAMES] [BASE_DEPTH]}
+out=${2:?usage: $0 TREE.ffscene OUT_DIR [FRAMES] [BASE_DEPTH]}
+frames=${3:-30}
+base_depth=${4:-4}
+farfield=${FARFIELD:-$(dirname "$0")/../build/farfield}
+mkdir -p "$out"
+
+# Spacing: one and a half tree widths, from the tree's bounds.
+width=$("$farfield" info "$tree" | awk '/^size:/ { print ($2 > $6 ? $2 : $6) }')
+spacing=$(awk -v w="$width" 'BEGIN { printf "%.2f", 1.5 * w }')
+height=$("$farfield" info "$tree" | awk '/^size:/ { print $4 }')
+
+depth=$base_depth
+for count in 1 4 16 64 256; do
+  field="$out/field_$count.ffscene"
+  "$farfield" generate field --mesh "$tree" --count "$count" --spacing "$spacing" --out "$field" -q
+  # The viewer stands off the corner of the first tree (copy_0, at the field's -X -Z corner)
+  # and looks diagonally across the field: more trees means more trees farther away.
+  /usr/bin/python3 - "$field" "$out/path_$count.json" "$frames" "$spacing" "$height" <<'PY'
+import json, math, subprocess, sys
+field, path, frames, spacing, height = sys.argv[1], sys.argv[2], int(sys.argv[3]), float(sys.argv[4]), float(sys.argv[5])
+count = int(field.rsplit("_", 1)[1].split(".")[0])
+n = math.ceil(math.sqrt(count))
+first = -0.5 * spacing * (n - 1)  # generate field centres the grid on the origin
+x = z = first - 1.2 * spacing
+poses = [{"position": [x, 0.6 * height, z], "yaw_deg": 45.0 + 2.0 * math.sin(i / max(frames - 1, 1) * math.pi), "pitch_deg": -8.0}
+         for i in range(frames)]
+json.dump({"format": "farfield-path", "version": 1, "kind": "static", "scene": field, "frames": poses}, open(path, "w"))
+PY
+  "$farfield" bench "$field" --path "$out/path_$count.json" -t brute,colorcube \
+    --set colorcube.depth=$depth --out "$out/bench_$count" --no-plot -q --samples 1 \
+    --reference-every 0 | tail -n 3
+  depth=$((depth + 1))
+done
+
+/usr/bin/python3 - "$out" <<'PY'
+import json, sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+out = sys.argv[1]
+counts = [1, 4, 16, 64, 256]
+rows = {"brute": ([], []), "colorcube": ([], [])}
+sizes = []
+for c in counts:
+    b = json.load(open(f"{out}/bench_{c}/bench.json"))
+    sizes.append(b["scene"]["triangles"])
+    for t in b["techniques"]:
+        rows[t["name"]][0].append(t["summary"]["median_ms"])
+        rows[t["name"]][1].append(t["summary"]["mean_triangles"])
+fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5), dpi=100)
+for name, (ms, tris) in rows.items():
+    a.loglog(sizes, ms, "o-", label=name)
+    b.loglog(sizes, tris, "o-", label=name)
+a.set_xlabel("scene triangles"); a.set_ylabel("median frame time (ms)"); a.grid(True, which="both", alpha=0.3); a.legend()
+b.set_xlabel("scene triangles"); b.set_ylabel("triangles drawn per frame"); b.grid(True, which="both", alpha=0.3); b.legend()
+fig.suptitle("paper 002 sub-linear experiment: fields of 1, 4, 16, 64, 256 trees")
+fig.tight_layout()
+fig.savefig(f"{out}/sublinear.png")
+with open(f"{out}/sublinear.tsv", "w") as f:
+    f.write("trees\ttriangles\tbrute_ms\tcolorcube_ms\tbrute_triangles\tcolorcube_triangles\n")
+    for i, c in enumerate(counts):
+        f.write(f"{c}\t{sizes[i]}\t{rows['brute'][0][i]:.2f}\t{rows['colorcube'][0][i]:.2f}\t{rows['brute'][1][i]:.0f}\t{rows['colorcube'][1][i]:.0f}\n")
+print(open(f"{out}/sublinear.tsv").read())
+PY
+echo "plot: $out/sublinear.png"
