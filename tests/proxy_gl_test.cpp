@@ -60,5 +60,40 @@ TEST(ProxyGL, DrawnUnlitDepthTestedAndCulled) {
   EXPECT_NE(image.pixel(32, 24)[1], 255);
 }
 
+TEST(ProxyGL, ManyRangesDrawTheSameAsOne) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  const Scene scene = test::make_box_row(1);
+  auto renderer = gpu::Renderer::create(scene);
+  ASSERT_TRUE(renderer);
+  // A 10 x 10 checkerboard of small quads, each its own range (more than one call's worth).
+  ProxyMesh mesh;
+  for (int i = 0; i < 100; ++i) {
+    const float x = -1.0f + 0.2f * float(i % 10), y = -1.0f + 0.2f * float(i / 10);
+    const uint32_t color = pack_color(i % 2 ? glm::vec4(1, 1, 0, 1) : glm::vec4(0, 0, 1, 1));
+    const uint32_t base = uint32_t(mesh.vertices.size());
+    mesh.vertices.insert(mesh.vertices.end(), {{{x, y, 0}, color}, {{x, y + 0.2f, 0}, color},
+                                               {{x + 0.2f, y + 0.2f, 0}, color},
+                                               {{x + 0.2f, y, 0}, color}});
+    mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  }
+  ASSERT_TRUE((*renderer)->set_proxies(mesh));
+  View view;
+  view.width = 64;
+  view.height = 48;
+  view.pose.position = {0.0f, 0.0f, -3.0f};
+  view.pose.yaw_deg = 90;
+  (*renderer)->set_offscreen(view.width, view.height);
+  DrawList one, many;
+  one.proxies.push_back({0, uint32_t(mesh.indices.size()), 0});
+  for (uint32_t i = 0; i < 100; ++i) many.proxies.push_back({6 * i, 6, 0});
+  (*renderer)->draw(view, one);
+  const Image a = (*renderer)->capture();
+  (*renderer)->draw(view, many);
+  const Image b = (*renderer)->capture();
+  EXPECT_EQ(a.rgb, b.rgb);
+  EXPECT_EQ((*renderer)->draw(view, many).draw_calls, 100u);
+}
+
 }  // namespace
 }  // namespace farfield

@@ -21,6 +21,9 @@ namespace farfield::gpu {
 
 namespace {
 
+// Above this many proxy ranges a frame gathers them into one draw (State::draw_proxy_stream).
+constexpr size_t kProxyRangesPerCall = 64;
+
 // DrawElementsIndirectCommand as the GL reads it from the indirect buffer.
 struct DrawCommand {
   GLuint count;
@@ -54,6 +57,12 @@ struct Renderer::State {
   // Proxy geometry (DrawList::proxies): its own buffers, VAO and unlit program.
   GLuint proxy_vertex_buffer = 0, proxy_index_buffer = 0, proxy_vao = 0, proxy_program = 0;
   uint32_t proxy_index_count = 0;
+  // Many small proxy ranges (thousands of cube-face batches) are gathered on the CPU into
+  // one stream and drawn with a single call: per-command cost dominates otherwise.
+  std::vector<uint32_t> proxy_indices;  // CPU copy of the proxy index buffer
+  std::vector<uint32_t> proxy_stream;   // this frame's gathered indices
+  GLuint proxy_stream_buffer = 0;
+  size_t proxy_stream_capacity = 0;  // in indices
   GLuint timer[2] = {0, 0};  // GL_TIMESTAMP queries at the frame's start and end
   GLuint framebuffer = 0, color_target = 0, depth_target = 0;  // offscreen, 0 = default
   int offscreen_width = 0, offscreen_height = 0;
@@ -65,9 +74,10 @@ struct Renderer::State {
   bool has_timer = false;
 
   ~State() {
-    const GLuint buffers[] = {vertex_buffer,       index_buffer,      material_buffer,
-                              indirect_buffer,     proxy_vertex_buffer, proxy_index_buffer};
-    glDeleteBuffers(6, buffers);
+    const GLuint buffers[] = {vertex_buffer,   index_buffer,        material_buffer,
+                              indirect_buffer, proxy_vertex_buffer, proxy_index_buffer,
+                              proxy_stream_buffer};
+    glDeleteBuffers(7, buffers);
     glDeleteVertexArrays(1, &vao);
     glDeleteVertexArrays(1, &proxy_vao);
     glDeleteProgram(program);
@@ -87,6 +97,27 @@ struct Renderer::State {
         make_buffer(indirect_buffer, "indirect draw commands",
                     indirect_capacity * sizeof(DrawCommand), nullptr, GL_DYNAMIC_STORAGE_BIT);
     FF_ASSERT(made.ok(), "%s", made.error().message.c_str());
+  }
+
+  // Gathers the ranges' indices into the stream buffer and draws them in one call.
+  void draw_proxy_stream(const std::vector<DrawRange>& ranges) {
+    proxy_stream.clear();
+    for (const DrawRange& r : ranges)
+      proxy_stream.insert(proxy_stream.end(), proxy_indices.begin() + r.first_index,
+                          proxy_indices.begin() + r.first_index + r.index_count);
+    if (proxy_stream.size() > proxy_stream_capacity) {
+      proxy_stream_capacity = std::bit_ceil(proxy_stream.size());
+      glDeleteBuffers(1, &proxy_stream_buffer);
+      const Result<void> made = make_buffer(proxy_stream_buffer, "proxy index stream",
+                                            proxy_stream_capacity * sizeof(uint32_t), nullptr,
+                                            GL_DYNAMIC_STORAGE_BIT);
+      FF_ASSERT(made.ok(), "%s", made.error().message.c_str());
+    }
+    glNamedBufferSubData(proxy_stream_buffer, 0, GLsizeiptr(proxy_stream.size() * sizeof(uint32_t)),
+                         proxy_stream.data());
+    glVertexArrayElementBuffer(proxy_vao, proxy_stream_buffer);
+    glDrawElements(GL_TRIANGLES, GLsizei(proxy_stream.size()), GL_UNSIGNED_INT, nullptr);
+    glVertexArrayElementBuffer(proxy_vao, proxy_index_buffer);
   }
 
   // Binds the target, sets every piece of state the frame depends on (another user of the
@@ -237,9 +268,13 @@ FrameStats Renderer::draw(const View& view, const DrawList& list) {
     glProgramUniformMatrix4fv(s.proxy_program, kViewProjectionUniform, 1, GL_FALSE,
                               glm::value_ptr(view.view_projection()));
     glBindVertexArray(s.proxy_vao);
-    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                                reinterpret_cast<const void*>(total * sizeof(DrawCommand)),
-                                GLsizei(list.proxies.size()), 0);
+    if (list.proxies.size() <= kProxyRangesPerCall) {
+      glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                                  reinterpret_cast<const void*>(total * sizeof(DrawCommand)),
+                                  GLsizei(list.proxies.size()), 0);
+    } else {
+      s.draw_proxy_stream(list.proxies);
+    }
     glBindVertexArray(s.vao);
     glUseProgram(s.program);
     glDisable(GL_BLEND);
@@ -265,6 +300,7 @@ Result<void> Renderer::set_proxies(const ProxyMesh& mesh) {
   glDeleteVertexArrays(1, &s.proxy_vao);
   s.proxy_vertex_buffer = s.proxy_index_buffer = s.proxy_vao = 0;
   s.proxy_index_count = 0;
+  s.proxy_indices.clear();
   if (mesh.indices.empty()) return {};
   if (auto made = make_buffer(s.proxy_vertex_buffer, "proxy vertex buffer",
                               mesh.vertices.size() * sizeof(ProxyVertex), mesh.vertices.data(), 0);
@@ -287,6 +323,7 @@ Result<void> Renderer::set_proxies(const ProxyMesh& mesh) {
   glVertexArrayAttribBinding(s.proxy_vao, kColorAttrib, 0);
   if (s.proxy_program == 0) s.proxy_program = build_proxy_program();
   s.proxy_index_count = uint32_t(mesh.indices.size());
+  s.proxy_indices = mesh.indices;
   return {};
 }
 

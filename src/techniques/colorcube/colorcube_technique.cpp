@@ -21,6 +21,15 @@ Result<double> number(const std::string& key, const std::string& text) {
   return v;
 }
 
+// Adds a proxy range, extending the last one when they touch.
+void append(DrawList& out, uint32_t first, uint32_t count) {
+  if (count == 0) return;
+  if (!out.proxies.empty() && out.proxies.back().first_index + out.proxies.back().index_count == first)
+    out.proxies.back().index_count += count;
+  else
+    out.proxies.push_back({first, count, 0});
+}
+
 }  // namespace
 
 Result<ColorcubeOptions> colorcube_options(const std::map<std::string, std::string>& settings) {
@@ -54,14 +63,12 @@ Result<void> ColorcubeTechnique::load(const Scene& scene) {
   auto tree = build_cube_tree(scene, options_.tree, quiet);
   if (!tree) return make_error("colorcube: ", tree.error().message);
   tree_ = std::move(*tree);
-  objects_ = std::make_unique<ObjectSet>(scene);
   stack_.reserve(8 * tree_.stats.levels + 8);
   return {};
 }
 
 void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& out) {
   out.clear();
-  objects_->clear();
   if (tree_.cells.empty()) return;
   const Frustum frustum(view);
   const glm::vec3 eye = view.pose.position, forward = view.pose.forward();
@@ -93,17 +100,12 @@ void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& 
         const bool facing = face_sign(face) > 0 ? eye[a] > cell.bounds.min[a] + cube_size
                                                 : eye[a] < cell.bounds.max[a] - cube_size;
         if (!facing) continue;
-        if (!out.proxies.empty() &&
-            out.proxies.back().first_index + out.proxies.back().index_count == cell.faces_begin[face])
-          out.proxies.back().index_count += cell.faces_count[face];
-        else
-          out.proxies.push_back({cell.faces_begin[face], cell.faces_count[face], 0});
+        append(out, cell.faces_begin[face], cell.faces_count[face]);
       }
       continue;
     }
     if (cell.leaf()) {
-      for (uint32_t i = cell.objects_begin; i < cell.objects_end; ++i)
-        objects_->insert(tree_.leaf_objects[i]);
+      append(out, cell.geometry_begin, cell.geometry_count);
       continue;
     }
     // Children nearest first: pushed farthest first.
@@ -114,7 +116,6 @@ void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& 
              glm::distance(tree_.cells[b].bounds.center(), eye);
     });
   }
-  objects_->emit(out);
 }
 
 std::string ColorcubeTechnique::describe() const {
@@ -122,9 +123,10 @@ std::string ColorcubeTechnique::describe() const {
   char line[256];
   std::snprintf(line, sizeof(line),
                 "%u cells (%u leaves), %u levels, cluster %ux%ux%u, oversampling %ux%u, %llu cube "
-                "faces, bake %.2f s + %.2f s",
+                "faces, %llu leaf triangles, bake %.2f s + %.2f s",
                 s.cells, s.leaves, s.levels, s.cluster, s.cluster, s.cluster, s.oversampling,
-                s.oversampling, (unsigned long long)s.cube_faces, s.leaf_bake_s, s.hierarchy_s);
+                s.oversampling, (unsigned long long)s.cube_faces,
+                (unsigned long long)s.geometry_triangles, s.leaf_bake_s, s.hierarchy_s);
   return line;
 }
 

@@ -1,8 +1,8 @@
 // colorcube: the colour-cube octree of paper 002, walked like Barnes-Hut (Sec. 3.1): cells
 // outside the frustum are skipped (the paper planned this, Sec. 6.4); a cell whose cubes
 // project below the pixel tolerance (cube size / depth < epsilon) draws its cube faces, only
-// the orientations that can face the eye; a leaf nearer than that draws its objects (each once
-// per frame); other cells recurse into their children, nearest first.
+// the orientations that can face the eye; a leaf nearer than that draws the triangles it owns
+// (each triangle once per frame); other cells recurse into their children, nearest first.
 #pragma once
 
 #include <map>
@@ -10,7 +10,6 @@
 #include <string>
 
 #include "farfield/techniques/colorcube/cube_tree.hpp"
-#include "farfield/techniques/object_set.hpp"
 #include "farfield/techniques/technique.hpp"
 
 namespace farfield {
@@ -37,7 +36,6 @@ class ColorcubeTechnique final : public Technique {
  private:
   ColorcubeOptions options_;
   CubeTree tree_;
-  std::unique_ptr<ObjectSet> objects_;
   std::vector<uint32_t> stack_;
 };
 

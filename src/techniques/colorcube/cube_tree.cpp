@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "farfield/core/assert.hpp"
+#include "farfield/gpu/lighting.hpp"
 
 namespace farfield {
 
@@ -54,7 +55,8 @@ struct Builder {
   const CubeTreeOptions& options;
   int depth;
   CubeTree& tree;
-  std::vector<std::vector<uint32_t>> leaf_triangles;  // by leaf order
+  std::vector<std::vector<uint32_t>> leaf_triangles;  // overlapping, by leaf order
+  std::vector<std::vector<uint32_t>> leaf_owned;      // centroid inside, by leaf order
   std::vector<uint32_t> leaf_cells;                   // cell of each leaf
 
   void triangle_box(uint32_t t, glm::vec3& lo, glm::vec3& hi) const {
@@ -68,19 +70,27 @@ struct Builder {
 
   // Fills cell `index` from its triangles and objects, depth first (paper 002, Sec. 4.1:
   // each primitive goes to every leaf it lies in; empty cells are pruned).
-  void fill(uint32_t index, std::vector<uint32_t> triangles, std::vector<uint32_t> objects) {
-    CubeCell& cell = tree.cells[index];
+  void fill(uint32_t index, std::vector<uint32_t> triangles) {
+    const CubeCell& cell = tree.cells[index];
     if (int(cell.level) == depth) {
-      cell.objects_begin = uint32_t(tree.leaf_objects.size());
-      tree.leaf_objects.insert(tree.leaf_objects.end(), objects.begin(), objects.end());
-      tree.cells[index].objects_end = uint32_t(tree.leaf_objects.size());
+      // Ownership by centroid, half-open per axis, so every triangle has exactly one owner.
+      std::vector<uint32_t> owned;
+      for (uint32_t t : triangles) {
+        const uint32_t* idx = scene.indices.data() + size_t(t) * 3;
+        const glm::vec3 c = (scene.vertices[idx[0]].position + scene.vertices[idx[1]].position +
+                             scene.vertices[idx[2]].position) / 3.0f;
+        if (c.x >= cell.bounds.min.x && c.x < cell.bounds.max.x && c.y >= cell.bounds.min.y &&
+            c.y < cell.bounds.max.y && c.z >= cell.bounds.min.z && c.z < cell.bounds.max.z)
+          owned.push_back(t);
+      }
       leaf_cells.push_back(index);
       leaf_triangles.push_back(std::move(triangles));
+      leaf_owned.push_back(std::move(owned));
       return;
     }
     const Bounds3 cube = cell.bounds;
     const uint32_t level = cell.level;
-    std::array<std::vector<uint32_t>, 8> child_triangles, child_objects;
+    std::array<std::vector<uint32_t>, 8> child_triangles;
     glm::vec3 lo, hi;
     for (uint32_t t : triangles) {
       triangle_box(t, lo, hi);
@@ -88,12 +98,6 @@ struct Builder {
         child_triangles[std::countr_zero(m)].push_back(t);
     }
     triangles = {};
-    for (uint32_t o : objects) {
-      const Bounds3& b = scene.objects[o].bounds;
-      for (uint32_t m = octant_mask(cube, b.min, b.max); m != 0; m &= m - 1)
-        child_objects[std::countr_zero(m)].push_back(o);
-    }
-    objects = {};
     const uint32_t first = uint32_t(tree.cells.size());
     uint32_t count = 0;
     for (int c = 0; c < 8; ++c) {
@@ -109,7 +113,7 @@ struct Builder {
     uint32_t slot = first;
     for (int c = 0; c < 8; ++c) {
       if (child_triangles[c].empty()) continue;
-      fill(slot++, std::move(child_triangles[c]), std::move(child_objects[c]));
+      fill(slot++, std::move(child_triangles[c]));
     }
   }
 };
@@ -173,14 +177,13 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
   const auto start = Clock::now();
   CubeTree tree;
   const int depth = o.depth > 0 ? o.depth : derived_depth(scene, o.triangles_per_leaf);
-  Builder builder{scene, o, depth, tree, {}, {}};
+  Builder builder{scene, o, depth, tree, {}, {}, {}};
   CubeCell root;
   root.bounds = bounding_cube(scene.bounds);
   tree.cells.push_back(root);
-  std::vector<uint32_t> triangles(scene.triangle_count()), objects(scene.objects.size());
+  std::vector<uint32_t> triangles(scene.triangle_count());
   for (uint32_t t = 0; t < triangles.size(); ++t) triangles[t] = t;
-  for (uint32_t i = 0; i < objects.size(); ++i) objects[i] = i;
-  builder.fill(0, std::move(triangles), std::move(objects));
+  builder.fill(0, std::move(triangles));
 
   // Phase I (paper 002, Sec. 5.1): render every leaf, on every core.
   const int c = o.leaf.cluster, per_cell = c * c * c;
@@ -257,6 +260,40 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
       cell.faces_count[face] = uint32_t(tree.proxies.indices.size()) - cell.faces_begin[face];
     }
   }
+  // The leaves' own triangles, lit per vertex (gpu/lighting.hpp), vertices shared per leaf.
+  std::vector<uint32_t> local;
+  for (size_t l = 0; l < leaves; ++l) {
+    CubeCell& cell = tree.cells[builder.leaf_cells[l]];
+    cell.geometry_begin = uint32_t(tree.proxies.indices.size());
+    local.clear();
+    for (uint32_t t : builder.leaf_owned[l])
+      for (int k = 0; k < 3; ++k) local.push_back(scene.indices[size_t(t) * 3 + k]);
+    std::sort(local.begin(), local.end());
+    local.erase(std::unique(local.begin(), local.end()), local.end());
+    const uint32_t base = uint32_t(tree.proxies.vertices.size());
+    // A vertex's material is its triangles' (objects do not share vertices).
+    std::vector<int32_t> material_of(local.size(), -1);
+    for (uint32_t t : builder.leaf_owned[l])
+      for (int k = 0; k < 3; ++k) {
+        const size_t at = size_t(std::lower_bound(local.begin(), local.end(),
+                                                  scene.indices[size_t(t) * 3 + k]) - local.begin());
+        material_of[at] = int32_t(materials[t]);
+      }
+    for (size_t i = 0; i < local.size(); ++i) {
+      const Vertex& v = scene.vertices[local[i]];
+      const glm::vec4 tint = scene.materials[uint32_t(material_of[i])].base_color;
+      const glm::vec3 lit = gpu::shade(unpack_normal(v.normal), glm::vec3(unpack_color(v.color)) * glm::vec3(tint));
+      tree.proxies.vertices.push_back({v.position, pack_color(glm::vec4(lit, tint.a))});
+    }
+    for (uint32_t t : builder.leaf_owned[l])
+      for (int k = 0; k < 3; ++k)
+        tree.proxies.indices.push_back(
+            base + uint32_t(std::lower_bound(local.begin(), local.end(), scene.indices[size_t(t) * 3 + k]) -
+                            local.begin()));
+    cell.geometry_count = uint32_t(tree.proxies.indices.size()) - cell.geometry_begin;
+    tree.stats.geometry_triangles += builder.leaf_owned[l].size();
+    builder.leaf_owned[l] = {};
+  }
   if (tree.proxies.vertices.size() >= UINT32_MAX)
     return make_error("the colour-cube model needs more than 2^32 proxy vertices; lower the depth or cluster");
   tree.stats.hierarchy_s = std::chrono::duration<double>(Clock::now() - phase2).count();
@@ -265,7 +302,7 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
   tree.stats.levels = uint32_t(depth + 1);
   tree.stats.cluster = uint32_t(c);
   tree.stats.oversampling = uint32_t(o.leaf.oversampling);
-  tree.stats.cube_faces = tree.proxies.indices.size() / 6;
+  tree.stats.cube_faces = (tree.proxies.indices.size() - 3 * tree.stats.geometry_triangles) / 6;
   return tree;
 }
 

@@ -3,7 +3,9 @@
 // cell holds a cluster of c x c x c colour-cubes, the leaves' baked from their triangles
 // (leaf_baker.hpp), the parents' combined from their children's. Faces whose coverage does
 // not exceed a threshold are dropped; the rest become proxy quads, kept in six batches per
-// cell (one per orientation) so that a frame draws only the orientations facing the eye.
+// cell (one per orientation) so that a frame draws only the orientations facing the eye. The
+// leaves' own triangles are copied into the same proxy mesh with their lighting baked per
+// vertex, so that a frame gathers cubes and near geometry into one stream.
 #pragma once
 
 #include <array>
@@ -34,7 +36,9 @@ struct CubeCell {
   uint32_t first_child = 0;  // children contiguous in `cells`
   uint32_t child_count = 0;  // 0 for a leaf
   uint32_t level = 0;        // 0 at the root
-  uint32_t objects_begin = 0, objects_end = 0;  // leaves: objects to draw, in `leaf_objects`
+  // Leaves: the proxy index range of the triangles the leaf owns (those whose centroid lies
+  // in it), lit per vertex as the renderer lights them, so that each is drawn once per frame.
+  uint32_t geometry_begin = 0, geometry_count = 0;
   // Proxy index ranges of the cell's drawn faces, one per orientation (face index of
   // color_cube.hpp), into CubeTree::proxies.indices.
   std::array<uint32_t, 6> faces_begin{}, faces_count{};
@@ -43,14 +47,14 @@ struct CubeCell {
 
 struct CubeTreeStats {  // paper 002, Table 1
   uint32_t cells = 0, leaves = 0, levels = 0, cluster = 0, oversampling = 0;
-  uint64_t cube_faces = 0;         // faces kept in the model (drawable)
+  uint64_t cube_faces = 0;          // faces kept in the model (drawable)
+  uint64_t geometry_triangles = 0;  // the leaves' own triangles (each scene triangle once)
   double leaf_bake_s = 0;          // phase I: leaves rendered
   double hierarchy_s = 0;          // phase II: parents combined, proxies built
 };
 
 struct CubeTree {
   std::vector<CubeCell> cells;  // root first
-  std::vector<uint32_t> leaf_objects;
   ProxyMesh proxies;
   CubeTreeStats stats;
 };
