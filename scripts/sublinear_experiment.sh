@@ -22,22 +22,27 @@ depth=$base_depth
 for count in 1 4 16 64 256; do
   field="$out/field_$count.ffscene"
   "$farfield" generate field --mesh "$tree" --count "$count" --spacing "$spacing" --out "$field" -q
-  # The viewer stands off the corner of the first tree (copy_0, at the field's -X -Z corner)
-  # and looks diagonally across the field: more trees means more trees farther away.
-  /usr/bin/python3 - "$field" "$out/path_$count.json" "$frames" "$spacing" "$height" <<'PY'
-import json, math, subprocess, sys
-field, path, frames, spacing, height = sys.argv[1], sys.argv[2], int(sys.argv[3]), float(sys.argv[4]), float(sys.argv[5])
+  # The viewer looks across the field at 25 degrees to the octree axes (paper 002, Plate 1)
+  # from where the front tree is drawn with the octree's leaf cubes (Sec. 6.3): the distance
+  # at which a leaf cube (spacing / 2^base_depth / cluster, the same for every field since the
+  # octree deepens as the field grows) shrinks to one pixel at 1024 pixels across 90 degrees.
+  /usr/bin/python3 - "$field" "$out/path_$count.json" "$frames" "$spacing" "$height" "$base_depth" <<'PY'
+import json, math, sys
+field, path, frames, spacing, height, base = sys.argv[1], sys.argv[2], int(sys.argv[3]), float(sys.argv[4]), float(sys.argv[5]), int(sys.argv[6])
 count = int(field.rsplit("_", 1)[1].split(".")[0])
 n = math.ceil(math.sqrt(count))
 first = -0.5 * spacing * (n - 1)  # generate field centres the grid on the origin
-x = z = first - 1.2 * spacing
-poses = [{"position": [x, 0.6 * height, z], "yaw_deg": 45.0 + 2.0 * math.sin(i / max(frames - 1, 1) * math.pi), "pitch_deg": -8.0}
-         for i in range(frames)]
+cube = spacing / 2 ** base / 4
+distance = cube / (2 * math.tan(math.radians(45)) / 1024) + spacing
+yaw = 25.0
+x = first - distance * math.cos(math.radians(yaw))
+z = first - distance * math.sin(math.radians(yaw))
+poses = [{"position": [x + 0.05 * i, 0.6 * height, z], "yaw_deg": yaw, "pitch_deg": -2.0} for i in range(frames)]
 json.dump({"format": "farfield-path", "version": 1, "kind": "static", "scene": field, "frames": poses}, open(path, "w"))
 PY
   "$farfield" bench "$field" --path "$out/path_$count.json" -t brute,colorcube \
     --set colorcube.depth=$depth --out "$out/bench_$count" --no-plot -q --samples 1 \
-    --reference-every 0 | tail -n 3
+    --reference-every 5 | tail -n 3
   depth=$((depth + 1))
 done
 
