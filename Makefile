@@ -38,9 +38,11 @@ fuzz: deps
 	  -DCMAKE_CXX_COMPILER=clang++-14 -DFARFIELD_FUZZ=ON -DFARFIELD_TESTS=OFF \
 	  -DFARFIELD_BENCH=OFF > /dev/null
 	@cmake --build build-fuzz -j $(JOBS)
-	@mkdir -p build-fuzz/corpus
+	@mkdir -p build-fuzz/corpus build-fuzz/corpus-store
 	build-fuzz/fuzz_scene_file -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=4096 \
 	  build-fuzz/corpus fuzz/corpus/scene_file
+	build-fuzz/fuzz_store -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=4096 \
+	  build-fuzz/corpus-store fuzz/corpus/store
 
 clean:
 	rm -rf $(BUILD) build-fuzz
