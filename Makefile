@@ -14,14 +14,15 @@ build: deps
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # The main job on the built-in default scene: the default city, its street path, and a
-# benchmark of brute force against octree culling (report in $(OUT)/bench).
+# benchmark of brute force against octree culling and the colour-cube octree (report in
+# $(OUT)/bench).
 demo: build
 	@mkdir -p $(OUT)
 	$(BUILD)/farfield generate city --out $(OUT)/city.ffscene
 	$(BUILD)/farfield info $(OUT)/city.ffscene
 	$(BUILD)/farfield path $(OUT)/city.ffscene --kind street --out $(OUT)/street.json
 	$(BUILD)/farfield bench $(OUT)/city.ffscene --path $(OUT)/street.json \
-	  --technique brute,octree --out $(OUT)/bench
+	  --technique brute,octree,colorcube --out $(OUT)/bench
 	@echo "demo: report in $(OUT)/bench (bench.json, frame_times.png, sample frames and differences)"
 
 test: build
