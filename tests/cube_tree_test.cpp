@@ -141,3 +141,52 @@ TEST(ColorcubeGL, FarCubesStandInAndNearGeometryIsExact) {
 
 }  // namespace
 }  // namespace farfield
+
+namespace farfield {
+namespace {
+
+TEST(ColorcubeGL, ALargeTriangleIsDrawnWhereverItReaches) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  // A 200 m ground square and a field of boxes on it; the camera stands near one edge of the
+  // square looking outwards, so the square's triangles have their centroids behind the eye.
+  Scene scene = box_field(8);
+  {
+    SceneBuilder b(scene);
+    const uint32_t m = b.add_material(Material{{0.3f, 0.6f, 0.2f, 1.0f}});
+    b.begin_object("ground", ObjectKind::ground, m);
+    const uint32_t c = pack_color(glm::vec4(1.0f));
+    b.add_vertex({-100, 0, -100}, {0, 1, 0}, c);
+    b.add_vertex({-100, 0, 100}, {0, 1, 0}, c);
+    b.add_vertex({100, 0, 100}, {0, 1, 0}, c);
+    b.add_vertex({100, 0, -100}, {0, 1, 0}, c);
+    b.add_triangle(0, 1, 2);
+    b.add_triangle(0, 2, 3);
+    b.end_object();
+  }
+  auto renderer = gpu::Renderer::create(scene);
+  ASSERT_TRUE(renderer);
+  TechniqueSettings settings;
+  ASSERT_TRUE(settings.add("colorcube.depth=5"));
+  auto brute = make_technique("brute");
+  auto cubes = make_technique("colorcube", settings);
+  ASSERT_TRUE((*brute)->load(scene));
+  ASSERT_TRUE((*cubes)->load(scene));
+  ASSERT_TRUE((*renderer)->set_proxies(*(*cubes)->proxies()));
+  View view;
+  view.width = 160;
+  view.height = 120;
+  view.pose = {{90.0f, 2.0f, 90.0f}, 45.0f, -10.0f};  // at a corner, looking out over the edge
+  (*renderer)->set_offscreen(view.width, view.height);
+  DrawList list;
+  (*brute)->select(view, {}, list);
+  (*renderer)->draw(view, list);
+  const Image reference = (*renderer)->capture();
+  (*cubes)->select(view, {}, list);
+  (*renderer)->draw(view, list);
+  const ImageComparison c = compare_images(reference, (*renderer)->capture());
+  EXPECT_TRUE(c.identical()) << c.differing_pixels << " pixels differ";
+}
+
+}  // namespace
+}  // namespace farfield

@@ -82,13 +82,13 @@ void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& 
   while (!stack_.empty()) {
     const CubeCell& cell = tree_.cells[stack_.back()];
     stack_.pop_back();
-    if (frustum.classify(cell.bounds) == Visibility::none) continue;
-    // The depth of the cell's nearest corner in the field of view.
+    if (frustum.classify(cell.reach) == Visibility::none) continue;
+    // The depth of the nearest corner of what the cell may draw, in the field of view.
     float depth = INFINITY;
     for (int k = 0; k < 8; ++k) {
-      const glm::vec3 corner(k & 1 ? cell.bounds.max.x : cell.bounds.min.x,
-                             k & 2 ? cell.bounds.max.y : cell.bounds.min.y,
-                             k & 4 ? cell.bounds.max.z : cell.bounds.min.z);
+      const glm::vec3 corner(k & 1 ? cell.reach.max.x : cell.reach.min.x,
+                             k & 2 ? cell.reach.max.y : cell.reach.min.y,
+                             k & 4 ? cell.reach.max.z : cell.reach.min.z);
       depth = std::min(depth, glm::dot(corner - eye, forward));
     }
     const float cube_size = (cell.bounds.max.x - cell.bounds.min.x) / cluster;

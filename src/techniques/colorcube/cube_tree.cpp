@@ -291,8 +291,17 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
             base + uint32_t(std::lower_bound(local.begin(), local.end(), scene.indices[size_t(t) * 3 + k]) -
                             local.begin()));
     cell.geometry_count = uint32_t(tree.proxies.indices.size()) - cell.geometry_begin;
+    cell.reach = cell.bounds;
+    for (uint32_t v : local) cell.reach.expand(scene.vertices[v].position);
     tree.stats.geometry_triangles += builder.leaf_owned[l].size();
     builder.leaf_owned[l] = {};
+  }
+  // Parents reach as far as their children (children follow their parent in `cells`).
+  for (size_t i = tree.cells.size(); i-- > 0;) {
+    CubeCell& cell = tree.cells[i];
+    if (cell.leaf()) continue;
+    cell.reach = cell.bounds;
+    for (uint32_t k = 0; k < cell.child_count; ++k) cell.reach.expand(tree.cells[cell.first_child + k].reach);
   }
   if (tree.proxies.vertices.size() >= UINT32_MAX)
     return make_error("the colour-cube model needs more than 2^32 proxy vertices; lower the depth or cluster");

@@ -33,6 +33,9 @@ struct CubeTreeOptions {
 
 struct CubeCell {
   Bounds3 bounds;            // a cube
+  // The cell and every triangle owned by a leaf below it: a large triangle reaches out of
+  // its owner's cell, so culling and the near/far decision use this box, never dropping it.
+  Bounds3 reach;
   uint32_t first_child = 0;  // children contiguous in `cells`
   uint32_t child_count = 0;  // 0 for a leaf
   uint32_t level = 0;        // 0 at the root
