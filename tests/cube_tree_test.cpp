@@ -2,11 +2,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "farfield/eval/image_metrics.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/lighting.hpp"
 #include "farfield/gpu/renderer.hpp"
+#include "farfield/scene/scene_file.hpp"
+#include "farfield/store/store.hpp"
 #include "farfield/techniques/colorcube/cube_tree.hpp"
 #include "farfield/techniques/technique.hpp"
 #include "test_util.hpp"
@@ -186,6 +189,57 @@ TEST(ColorcubeGL, ALargeTriangleIsDrawnWhereverItReaches) {
   (*renderer)->draw(view, list);
   const ImageComparison c = compare_images(reference, (*renderer)->capture());
   EXPECT_TRUE(c.identical()) << c.differing_pixels << " pixels differ";
+}
+
+}  // namespace
+}  // namespace farfield
+
+namespace farfield {
+namespace {
+
+TEST(CubeTree, BakeIntoAStoreAndLoadItBack) {
+  test::TempDir dir;
+  const Scene scene = box_field(4);
+  Progress quiet(true);
+  CubeTreeOptions options;
+  options.depth = 3;
+  auto tree = build_cube_tree(scene, options, quiet);
+  ASSERT_TRUE(tree);
+  {
+    auto store = Store::open(dir.file("p.ffpack"), Store::Mode::kReadWrite);
+    ASSERT_TRUE(store) << store.error().message;
+    ASSERT_TRUE(save_cube_tree(*tree, scene_fingerprint(scene), *store));
+  }
+  auto store = Store::open(dir.file("p.ffpack"), Store::Mode::kRead);
+  ASSERT_TRUE(store);
+  auto back = load_cube_tree(*store, scene_fingerprint(scene));
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_EQ(back->cells.size(), tree->cells.size());
+  EXPECT_EQ(back->proxies.indices, tree->proxies.indices);
+  EXPECT_EQ(back->stats.cube_faces, tree->stats.cube_faces);
+  // Another scene's bake is refused, and so is a pack without one.
+  auto other = load_cube_tree(*store, scene_fingerprint(box_field(3)));
+  ASSERT_FALSE(other);
+  EXPECT_NE(other.error().message.find("another scene"), std::string::npos);
+  auto empty = Store::open(dir.file("empty.ffpack"), Store::Mode::kReadWrite);
+  ASSERT_TRUE(empty);
+  EXPECT_FALSE(load_cube_tree(*empty, scene_fingerprint(scene)));
+}
+
+TEST(CubeTree, BakeCommandWritesAPackInfoDescribes) {
+  test::TempDir dir;
+  ASSERT_TRUE(write_scene(box_field(3), dir.file("s.ffscene")));
+  auto r = test::run_farfield("bake " + dir.file("s.ffscene") + " -t colorcube -q --set colorcube.depth=3 --out " +
+                              dir.file("s.ffpack"));
+  ASSERT_EQ(r.exit_status, 0) << r.output;
+  auto info = test::run_farfield("info " + dir.file("s.ffpack"));
+  EXPECT_EQ(info.exit_status, 0);
+  EXPECT_NE(info.output.find("colorcube/table1"), std::string::npos) << info.output;
+  // A technique without a bake refuses and leaves no pack behind.
+  auto octree = test::run_farfield("bake " + dir.file("s.ffscene") + " -t octree --out " + dir.file("o.ffpack"));
+  EXPECT_EQ(octree.exit_status, 1);
+  EXPECT_NE(octree.output.find("nothing to bake"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("o.ffpack")));
 }
 
 }  // namespace

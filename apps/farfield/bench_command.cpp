@@ -27,6 +27,8 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
       "bench", "Play a camera path headless for each technique; write DIR/bench.json, sample "
                "frames, difference images against brute and a frame-time plot");
   cmd->add_option("scene", s->bench.scene_file, "A .ffscene file")->required();
+  cmd->add_option("--store", s->bench.store_file,
+                  "A .ffpack from 'farfield bake': techniques load their bake from it");
   cmd->add_option("--path", s->path, "Camera path (farfield path ... --out path.json)")->required();
   cmd->add_option("--technique,-t", s->techniques, technique_help)
       ->delimiter(',')

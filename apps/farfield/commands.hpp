@@ -20,6 +20,7 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands);
 void add_info_command(CLI::App& root, std::vector<Command>& commands);
 void add_path_command(CLI::App& root, std::vector<Command>& commands);
 void add_bench_command(CLI::App& root, std::vector<Command>& commands);
+void add_bake_command(CLI::App& root, std::vector<Command>& commands);
 void add_view_command(CLI::App& root, std::vector<Command>& commands);
 void add_analyze_command(CLI::App& root, std::vector<Command>& commands);
 

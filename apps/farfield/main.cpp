@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   add_import_command(app, commands);
   add_info_command(app, commands);
   add_path_command(app, commands);
+  add_bake_command(app, commands);
   add_bench_command(app, commands);
   add_view_command(app, commands);
   add_analyze_command(app, commands);

@@ -2,6 +2,7 @@
 // technique at run time, with frame time, triangles and draw calls on screen.
 #include <chrono>
 #include <cstdio>
+#include <optional>
 
 #include <epoxy/gl.h>  // before GLFW, which would include the system GL header
 #include <GLFW/glfw3.h>
@@ -16,6 +17,7 @@
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/gpu/window.hpp"
 #include "farfield/scene/scene_file.hpp"
+#include "farfield/store/store.hpp"
 #include "farfield/techniques/technique.hpp"
 
 namespace farfield::cli {
@@ -23,7 +25,7 @@ namespace farfield::cli {
 namespace {
 
 struct ViewSettings {
-  std::string scene, path, technique = "octree", screenshot, record;
+  std::string scene, path, store, technique = "octree", screenshot, record;
   std::vector<std::string> settings;
   int width = 1024, height = 768, frames = 0;
   float hfov_deg = 90.0f;
@@ -65,6 +67,12 @@ int run_viewer(const ViewSettings& s) {
     if (!read) return fail(read.error().message);
     path = std::move(*read);
   }
+  std::optional<Store> store;
+  if (!s.store.empty()) {
+    auto opened = Store::open(s.store, Store::Mode::kRead);
+    if (!opened) return fail(opened.error().message);
+    store.emplace(std::move(*opened));
+  }
   TechniqueSettings settings;
   for (const std::string& setting : s.settings)
     if (auto ok = settings.add(setting); !ok) return fail(ok.error().message);
@@ -89,7 +97,8 @@ int run_viewer(const ViewSettings& s) {
   size_t shown = infos.size();  // the technique whose proxies are uploaded
   auto show = [&](size_t t) -> Result<void> {
     if (!loaded[t]) {
-      if (auto ok = techniques[t]->load(*scene); !ok) return ok;
+      if (auto ok = store ? techniques[t]->load_baked(*scene, *store) : techniques[t]->load(*scene); !ok)
+        return ok;
       loaded[t] = true;
     }
     if (t == shown) return {};
@@ -220,6 +229,7 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
               "switch technique, P play/pause the path, Esc quit");
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
   cmd->add_option("--path", s->path, "Camera path to play (P pauses and resumes)");
+  cmd->add_option("--store", s->store, "A .ffpack from 'farfield bake' to load techniques from");
   cmd->add_option("--technique,-t", s->technique, "Technique at start")->capture_default_str();
   cmd->add_option("--set", s->settings,
                   "Technique setting NAME.KEY=VALUE, repeatable (e.g. colorcube.depth=6)");

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 
 #include <epoxy/gl.h>
 
@@ -15,6 +16,7 @@
 #include "farfield/eval/image_metrics.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/renderer.hpp"
+#include "farfield/store/store.hpp"
 #include "farfield/techniques/technique.hpp"
 #include "frame_plot.hpp"
 
@@ -75,6 +77,12 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
   std::filesystem::create_directories(options.out_dir, ec);
   if (ec) return make_error(options.out_dir, ": cannot create the output folder: ", ec.message());
 
+  std::optional<Store> store;
+  if (!options.store_file.empty()) {
+    auto opened = Store::open(options.store_file, Store::Mode::kRead);
+    if (!opened) return opened.error();
+    store.emplace(std::move(*opened));
+  }
   auto context = gpu::create_headless_context();
   if (!context) return context.error();
   auto renderer = gpu::Renderer::create(scene);
@@ -106,7 +114,8 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
       if (!made) return made.error();
       technique = std::move(*made);
       const auto start = Clock::now();
-      if (auto ok = technique->load(scene); !ok) return ok.error();
+      if (auto ok = store ? technique->load_baked(scene, *store) : technique->load(scene); !ok)
+        return ok.error();
       record.load_s = ms_since(start) / 1000.0;
       record.description = technique->describe();
       const ProxyMesh* proxies = technique->proxies();

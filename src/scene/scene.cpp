@@ -6,6 +6,8 @@
 
 #include <glm/geometric.hpp>
 
+#include <xxhash.h>
+
 #include "farfield/core/assert.hpp"
 
 namespace farfield {
@@ -126,6 +128,19 @@ void SceneBuilder::end_object() {
   }
   scene_.bounds.expand(current_.bounds);
   scene_.objects.push_back(current_);
+}
+
+uint64_t scene_fingerprint(const Scene& s) {
+  XXH3_state_t* state = XXH3_createState();
+  XXH3_64bits_reset(state);
+  XXH3_64bits_update(state, s.objects.data(), s.objects.size() * sizeof(Object));
+  XXH3_64bits_update(state, s.materials.data(), s.materials.size() * sizeof(Material));
+  XXH3_64bits_update(state, s.vertices.data(), s.vertices.size() * sizeof(Vertex));
+  XXH3_64bits_update(state, s.indices.data(), s.indices.size() * sizeof(uint32_t));
+  XXH3_64bits_update(state, s.names.data(), s.names.size());
+  const uint64_t hash = XXH3_64bits_digest(state);
+  XXH3_freeState(state);
+  return hash;
 }
 
 std::string validate_scene(const Scene& s) {

@@ -24,6 +24,13 @@ constexpr std::array kTechniques = {
 
 std::span<const TechniqueInfo> known_techniques() { return kTechniques; }
 
+Result<void> Technique::bake(const Scene&, Store&, Progress&) {
+  return make_error("technique '", std::string(name()), "' has nothing to bake; it loads in ",
+                    "moments from the scene");
+}
+
+Result<void> Technique::load_baked(const Scene& scene, const Store&) { return load(scene); }
+
 Result<void> TechniqueSettings::add(const std::string& assignment) {
   const size_t dot = assignment.find('.'), equals = assignment.find('=');
   if (dot == std::string::npos || equals == std::string::npos || dot == 0 || equals < dot + 2)

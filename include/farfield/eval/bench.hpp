@@ -22,6 +22,7 @@ inline constexpr const char* kRawBound = "raw";
 
 struct BenchOptions {
   std::string scene_file;               // for the report
+  std::string store_file;               // a .ffpack from `farfield bake`; empty: load in memory
   std::vector<std::string> techniques;  // brute is always run (first) as the reference
   TechniqueSettings settings;           // --set NAME.KEY=VALUE
   int width = 1024, height = 768;

@@ -114,6 +114,9 @@ class SceneBuilder {
   bool open_ = false;
 };
 
+// XXH3-64 of the scene's arrays: a bake records it and refuses to serve another scene.
+uint64_t scene_fingerprint(const Scene& scene);
+
 // Checks every invariant a renderer relies on (ranges, indices, materials, names, bounds).
 // Returns a message naming the first broken one, or an empty string.
 std::string validate_scene(const Scene& scene);

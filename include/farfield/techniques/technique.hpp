@@ -1,7 +1,7 @@
 // The one interface every rendering technique implements (DESIGN.md). A technique prepares
-// itself once for a scene (load), then selects what to draw for each view (select): pure CPU,
-// no GL, no allocation in steady state, so it can be tested without a GPU and timed apart
-// from drawing. Baking into a store arrives with the first technique that needs one.
+// itself once for a scene (load, or load_baked from what bake wrote into a .ffpack store),
+// then selects what to draw for each view (select): pure CPU, no GL, no allocation in steady
+// state, so it can be tested without a GPU and timed apart from drawing.
 #pragma once
 
 #include <map>
@@ -11,12 +11,15 @@
 #include <string_view>
 #include <vector>
 
+#include "farfield/core/progress.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/core/view.hpp"
 #include "farfield/scene/scene.hpp"
 #include "farfield/techniques/draw_list.hpp"
 
 namespace farfield {
+
+class Store;
 
 struct FrameBudget {
   double frame_ms = 0.0;  // target frame time; 0 = no budget (techniques that ignore it)
@@ -28,6 +31,11 @@ class Technique {
   virtual std::string_view name() const = 0;
   // Builds the technique's run-time structures for `scene`, which must outlive it.
   virtual Result<void> load(const Scene& scene) = 0;
+  // Offline preprocessing into `store` (a write transaction of its own); techniques with
+  // nothing worth keeping refuse.
+  virtual Result<void> bake(const Scene& scene, Store& store, Progress& progress);
+  // Loads what bake() wrote for this scene; techniques without a bake simply load().
+  virtual Result<void> load_baked(const Scene& scene, const Store& store);
   // Every frame; `out` is cleared first and its capacity reused.
   virtual void select(const View& view, const FrameBudget& budget, DrawList& out) = 0;
   // One line on what load built (nodes, depth, ...), for reports.

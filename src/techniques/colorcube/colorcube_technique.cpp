@@ -8,6 +8,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "farfield/core/frustum.hpp"
+#include "farfield/store/store.hpp"
 
 namespace farfield {
 
@@ -62,6 +63,23 @@ Result<void> ColorcubeTechnique::load(const Scene& scene) {
   Progress quiet(true);
   auto tree = build_cube_tree(scene, options_.tree, quiet);
   if (!tree) return make_error("colorcube: ", tree.error().message);
+  tree_ = std::move(*tree);
+  stack_.reserve(8 * tree_.stats.levels + 8);
+  return {};
+}
+
+Result<void> ColorcubeTechnique::bake(const Scene& scene, Store& store, Progress& progress) {
+  auto tree = build_cube_tree(scene, options_.tree, progress);
+  if (!tree) return make_error("colorcube: ", tree.error().message);
+  if (auto ok = save_cube_tree(*tree, scene_fingerprint(scene), store); !ok) return ok;
+  tree_ = std::move(*tree);
+  stack_.reserve(8 * tree_.stats.levels + 8);
+  return {};
+}
+
+Result<void> ColorcubeTechnique::load_baked(const Scene& scene, const Store& store) {
+  auto tree = load_cube_tree(store, scene_fingerprint(scene));
+  if (!tree) return tree.error();
   tree_ = std::move(*tree);
   stack_.reserve(8 * tree_.stats.levels + 8);
   return {};

@@ -28,6 +28,8 @@ class ColorcubeTechnique final : public Technique {
   explicit ColorcubeTechnique(const ColorcubeOptions& options) : options_(options) {}
   std::string_view name() const override { return "colorcube"; }
   Result<void> load(const Scene& scene) override;
+  Result<void> bake(const Scene& scene, Store& store, Progress& progress) override;
+  Result<void> load_baked(const Scene& scene, const Store& store) override;
   void select(const View& view, const FrameBudget& budget, DrawList& out) override;
   std::string describe() const override;
   const ProxyMesh* proxies() const override { return &tree_.proxies; }

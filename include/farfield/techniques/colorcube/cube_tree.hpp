@@ -22,6 +22,8 @@
 
 namespace farfield {
 
+class Store;
+
 struct CubeTreeOptions {
   int depth = 0;  // levels below the root; 0 derives it from triangle density (paper 002, 6.4)
   int triangles_per_leaf = 4000;  // the density target when depth is derived
@@ -64,6 +66,11 @@ struct CubeTree {
 
 Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& options,
                                  Progress& progress);
+
+// A built tree into a store (blobs under "colorcube/"), with its statistics and the scene's
+// fingerprint as metadata; and back, refusing another scene's bake or an inconsistent one.
+Result<void> save_cube_tree(const CubeTree& tree, uint64_t scene_fingerprint, Store& store);
+Result<CubeTree> load_cube_tree(const Store& store, uint64_t scene_fingerprint);
 
 // The depth build_cube_tree uses when options.depth is 0.
 int derived_depth(const Scene& scene, int triangles_per_leaf);

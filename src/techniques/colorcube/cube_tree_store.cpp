@@ -1,0 +1,101 @@
+// The colour-cube tree in a .ffpack store: three arrays as zstd blobs, the statistics and the
+// scene's fingerprint as metadata. Reading checks every index before the tree is used.
+#include <cstring>
+#include <string>
+
+#include "farfield/store/store.hpp"
+#include "farfield/techniques/colorcube/cube_tree.hpp"
+
+namespace farfield {
+
+namespace {
+
+constexpr const char* kCells = "colorcube/cells";
+constexpr const char* kVertices = "colorcube/proxy_vertices";
+constexpr const char* kIndices = "colorcube/proxy_indices";
+constexpr const char* kStats = "colorcube/stats";
+constexpr const char* kScene = "colorcube/scene";
+
+template <class T>
+std::span<const std::byte> bytes_of(const std::vector<T>& v) {
+  return std::as_bytes(std::span(v));
+}
+
+template <class T>
+Result<std::vector<T>> read_array(const Store& store, const char* name) {
+  auto bytes = store.get(name);
+  if (!bytes) return bytes.error();
+  if (bytes->size() % sizeof(T) != 0)
+    return make_error(store.path(), ": blob '", name, "' has a size that is not whole records");
+  std::vector<T> out(bytes->size() / sizeof(T));
+  if (!out.empty()) std::memcpy(out.data(), bytes->data(), bytes->size());
+  return out;
+}
+
+}  // namespace
+
+Result<void> save_cube_tree(const CubeTree& tree, uint64_t fingerprint, Store& store) {
+  auto transaction = store.begin();
+  if (!transaction) return transaction.error();
+  if (auto erased = store.erase("colorcube/"); !erased) return erased.error();
+  if (auto ok = store.put(kCells, bytes_of(tree.cells)); !ok) return ok;
+  if (auto ok = store.put(kVertices, bytes_of(tree.proxies.vertices)); !ok) return ok;
+  if (auto ok = store.put(kIndices, bytes_of(tree.proxies.indices)); !ok) return ok;
+  const std::vector<CubeTreeStats> stats{tree.stats};
+  if (auto ok = store.put(kStats, bytes_of(stats)); !ok) return ok;
+  if (auto ok = store.set_meta(kScene, std::to_string(fingerprint)); !ok) return ok;
+  const CubeTreeStats& s = tree.stats;
+  const std::string table = "cells " + std::to_string(s.cells) + ", levels " +
+                            std::to_string(s.levels) + ", cluster " + std::to_string(s.cluster) +
+                            ", oversampling " + std::to_string(s.oversampling) +
+                            ", cube faces " + std::to_string(s.cube_faces) +
+                            ", preprocessing " + std::to_string(s.leaf_bake_s) + " s + " +
+                            std::to_string(s.hierarchy_s) + " s";
+  if (auto ok = store.set_meta("colorcube/table1", table); !ok) return ok;
+  return transaction->commit();
+}
+
+Result<CubeTree> load_cube_tree(const Store& store, uint64_t fingerprint) {
+  auto scene = store.get_meta(kScene);
+  if (!scene) return scene.error();
+  if (!*scene)
+    return make_error(store.path(), ": holds no colorcube bake (run: farfield bake SCENE "
+                                    "--technique colorcube --out ", store.path(), ")");
+  if (**scene != std::to_string(fingerprint))
+    return make_error(store.path(), ": its colorcube bake was made for another scene");
+  CubeTree tree;
+  auto cells = read_array<CubeCell>(store, kCells);
+  if (!cells) return cells.error();
+  auto vertices = read_array<ProxyVertex>(store, kVertices);
+  if (!vertices) return vertices.error();
+  auto indices = read_array<uint32_t>(store, kIndices);
+  if (!indices) return indices.error();
+  auto stats = read_array<CubeTreeStats>(store, kStats);
+  if (!stats) return stats.error();
+  auto inconsistent = [&](const char* what) {
+    return make_error(store.path(), ": colorcube bake is inconsistent (", what, ")");
+  };
+  if (stats->size() != 1) return inconsistent("statistics");
+  if (cells->empty()) return inconsistent("no cells");
+  for (uint32_t index : *indices)
+    if (index >= vertices->size()) return inconsistent("a proxy index past the vertices");
+  for (size_t i = 0; i < cells->size(); ++i) {
+    const CubeCell& c = (*cells)[i];
+    if (c.child_count > 8 || (c.child_count > 0 && (c.first_child <= i ||
+                                                    uint64_t(c.first_child) + c.child_count > cells->size())))
+      return inconsistent("a cell's children");
+    auto range_ok = [&](uint32_t first, uint32_t count) {
+      return first % 3 == 0 && count % 3 == 0 && uint64_t(first) + count <= indices->size();
+    };
+    for (int f = 0; f < 6; ++f)
+      if (!range_ok(c.faces_begin[f], c.faces_count[f])) return inconsistent("a face batch");
+    if (!range_ok(c.geometry_begin, c.geometry_count)) return inconsistent("a leaf's triangles");
+  }
+  tree.cells = std::move(*cells);
+  tree.proxies.vertices = std::move(*vertices);
+  tree.proxies.indices = std::move(*indices);
+  tree.stats = (*stats)[0];
+  return tree;
+}
+
+}  // namespace farfield
