@@ -118,6 +118,7 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
         return ok.error();
       record.load_s = ms_since(start) / 1000.0;
       record.description = technique->describe();
+      record.figures = technique->figures();
       const ProxyMesh* proxies = technique->proxies();
       if (auto ok = (*renderer)->set_proxies(proxies ? *proxies : ProxyMesh{}); !ok)
         return ok.error();

@@ -67,13 +67,22 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options,
                     {"bake_s", 0.0},
                     {"load_s", t.load_s},
                     {"store_bytes", 0}};
+    // Triangles drawn from the technique's proxy mesh (colorcube: cube faces, two triangles
+    // each, and the leaves' own triangles).
+    uint64_t proxy_triangles = 0;
+    for (const FrameRecord& f : t.frames) proxy_triangles += f.proxy_triangles;
+    if (proxy_triangles > 0)
+      summary["mean_proxy_triangles"] = double(proxy_triangles) / double(t.frames.size());
     if (&t != brute && brute) {
       summary["median_ratio_to_brute"] = s.median_ratio_to_brute;
       summary["triangle_ratio_to_brute"] = s.triangle_ratio_to_brute;
       summary["frames_slower_than_brute_1_1x"] = s.frames_slower_than_brute_1_1x;
     }
+    json figures = json::object();
+    for (const auto& [key, value] : t.figures) figures[key] = value;
     root["techniques"].push_back({{"name", t.name},
                                   {"description", t.description},
+                                  {"figures", std::move(figures)},
                                   {"frames", std::move(frames)},
                                   {"summary", std::move(summary)}});
   }

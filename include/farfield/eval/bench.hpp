@@ -45,6 +45,7 @@ struct FrameRecord {
 
 struct TechniqueRecord {
   std::string name, description;
+  std::vector<std::pair<std::string, double>> figures;  // Technique::figures()
   double load_s = 0;
   double peak_rss_mb = 0;
   std::vector<FrameRecord> frames;

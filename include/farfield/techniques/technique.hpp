@@ -40,6 +40,8 @@ class Technique {
   virtual void select(const View& view, const FrameBudget& budget, DrawList& out) = 0;
   // One line on what load built (nodes, depth, ...), for reports.
   virtual std::string describe() const { return {}; }
+  // The same as named numbers for bench.json (e.g. paper 002's Table 1 for colorcube).
+  virtual std::vector<std::pair<std::string, double>> figures() const { return {}; }
   // Stand-in geometry that the technique's DrawList::proxies refer to, if any; valid after
   // load() for the technique's lifetime. The renderer uploads it (Renderer::set_proxies).
   virtual const ProxyMesh* proxies() const { return nullptr; }

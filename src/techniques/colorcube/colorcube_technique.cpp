@@ -136,6 +136,19 @@ void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& 
   }
 }
 
+std::vector<std::pair<std::string, double>> ColorcubeTechnique::figures() const {
+  const CubeTreeStats& s = tree_.stats;  // paper 002, Table 1
+  return {{"tree_cells", s.cells},
+          {"leaves", s.leaves},
+          {"levels", s.levels},
+          {"clustering_factor", s.cluster},
+          {"oversampling_factor", s.oversampling},
+          {"cube_faces_in_model", double(s.cube_faces)},
+          {"leaf_triangles", double(s.geometry_triangles)},
+          {"preprocessing_leaves_s", s.leaf_bake_s},
+          {"preprocessing_hierarchy_s", s.hierarchy_s}};
+}
+
 std::string ColorcubeTechnique::describe() const {
   const CubeTreeStats& s = tree_.stats;
   char line[256];

@@ -32,6 +32,7 @@ class ColorcubeTechnique final : public Technique {
   Result<void> load_baked(const Scene& scene, const Store& store) override;
   void select(const View& view, const FrameBudget& budget, DrawList& out) override;
   std::string describe() const override;
+  std::vector<std::pair<std::string, double>> figures() const override;
   const ProxyMesh* proxies() const override { return &tree_.proxies; }
   const CubeTree& tree() const { return tree_; }
 
