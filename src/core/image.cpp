@@ -25,9 +25,18 @@ Error io_error(const std::string& path, const char* what) {
 
 }  // namespace
 
+Result<void> check_image_size(uint64_t width, uint64_t height, uint64_t max_pixels) {
+  if (width == 0 || height == 0 || width > (1u << 15) || height > (1u << 15) ||
+      width * height > max_pixels)
+    return make_error("image of ", std::to_string(width), "x", std::to_string(height),
+                      " pixels is outside 1..32768 per side or over ", std::to_string(max_pixels),
+                      " pixels");
+  return {};
+}
+
 // libpng's simplified API keeps its setjmp error handling inside libpng, so no longjmp
 // crosses C++ frames; its errors come back in png_image::message.
-Result<void> write_png(const Image& image, const std::string& path) {
+Result<std::vector<std::byte>> encode_png(const Image& image) {
   FF_ASSERT(image.width > 0 && image.height > 0 &&
                 image.rgb.size() == size_t(image.width) * size_t(image.height) * 3,
             "image %dx%d holds %zu bytes", image.width, image.height, image.rgb.size());
@@ -38,35 +47,45 @@ Result<void> write_png(const Image& image, const std::string& path) {
   png.format = PNG_FORMAT_RGB;
   png_alloc_size_t size = 0;
   if (!png_image_write_get_memory_size(png, size, 0, image.rgb.data(), 0, nullptr))
-    return make_error(path, ": cannot encode PNG: ", png.message);
-  std::vector<uint8_t> bytes(size);
-  if (!png_image_write_to_memory(&png, bytes.data(), &size, 0, image.rgb.data(), 0, nullptr))
-    return make_error(path, ": cannot encode PNG: ", png.message);
-  bytes.resize(size);
+    return make_error("cannot encode PNG: ", png.message);
+  std::vector<std::byte> out(size);
+  if (!png_image_write_to_memory(&png, out.data(), &size, 0, image.rgb.data(), 0, nullptr))
+    return make_error("cannot encode PNG: ", png.message);
+  out.resize(size);
+  return out;
+}
+
+Result<Image> decode_png(std::span<const std::byte> bytes, uint64_t max_pixels) {
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_memory(&png, bytes.data(), bytes.size()))
+    return make_error("not a readable PNG: ", png.message);
+  png.format = PNG_FORMAT_RGB;  // libpng converts grey, palette, 16-bit and drops alpha
+  if (auto ok = check_image_size(png.width, png.height, max_pixels); !ok) {
+    png_image_free(&png);
+    return make_error("PNG ", ok.error().message);
+  }
+  Image image(int(png.width), int(png.height));
+  if (!png_image_finish_read(&png, nullptr, image.rgb.data(), 0, nullptr))
+    return make_error("corrupted PNG: ", png.message);
+  return image;
+}
+
+Result<void> write_png(const Image& image, const std::string& path) {
+  auto bytes = encode_png(image);
+  if (!bytes) return make_error(path, ": ", bytes.error().message);
   return write_file_atomically(
-      path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+      path, std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()));
 }
 
 Result<Image> read_png(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   if (!file) return io_error(path, "cannot open");
-  const std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(file),
-                                   std::istreambuf_iterator<char>()};
+  const std::vector<char> bytes{std::istreambuf_iterator<char>(file),
+                                std::istreambuf_iterator<char>()};
   if (file.bad()) return io_error(path, "read failed");
-
-  png_image png{};
-  png.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_memory(&png, bytes.data(), bytes.size()))
-    return make_error(path, ": not a readable PNG file: ", png.message);
-  png.format = PNG_FORMAT_RGB;  // libpng converts grey, palette, 16-bit and drops alpha
-  if (png.width == 0 || png.height == 0 || png.width > 1u << 15 || png.height > 1u << 15) {
-    png_image_free(&png);
-    return make_error(path, ": PNG of ", std::to_string(png.width), "x", std::to_string(png.height),
-                      " pixels is outside 1..32768 per side");
-  }
-  Image image(int(png.width), int(png.height));
-  if (!png_image_finish_read(&png, nullptr, image.rgb.data(), 0, nullptr))
-    return make_error(path, ": corrupted PNG file: ", png.message);
+  auto image = decode_png(std::as_bytes(std::span(bytes)));
+  if (!image) return make_error(path, ": ", image.error().message);
   return image;
 }
 

@@ -3,7 +3,6 @@
 #include <memory>
 #include <string>
 
-#include <png.h>
 #include <turbojpeg.h>
 #include <zstd.h>
 
@@ -18,16 +17,6 @@ void check_image(const Image& image, const char* caller) {
                 image.rgb.size() == size_t(image.width) * size_t(image.height) * 3,
             "%s: image %dx%d holds %zu bytes", caller, image.width, image.height,
             image.rgb.size());
-}
-
-// The size check shared by both image decoders, before any pixel is allocated.
-Result<void> check_dimensions(uint64_t width, uint64_t height, uint64_t max_pixels) {
-  if (width == 0 || height == 0 || width > (1u << 15) || height > (1u << 15) ||
-      width * height > max_pixels)
-    return make_error("image of ", std::to_string(width), "x", std::to_string(height),
-                      " pixels is outside 1..32768 per side or over ", std::to_string(max_pixels),
-                      " pixels");
-  return {};
 }
 
 struct TjDeleter {
@@ -98,7 +87,7 @@ Result<Image> decode_jpeg(std::span<const std::byte> jpeg, uint64_t max_pixels) 
   if (tjDecompressHeader3(tj.get(), data, jpeg.size(), &width, &height, &subsampling,
                           &colorspace) != 0)
     return make_error("not a readable JPEG: ", tjGetErrorStr2(tj.get()));
-  if (auto ok = check_dimensions(uint64_t(width), uint64_t(height), max_pixels); !ok)
+  if (auto ok = check_image_size(uint64_t(width), uint64_t(height), max_pixels); !ok)
     return make_error("JPEG ", ok.error().message);
   Image image(width, height);
   // STOPONWARNING: a truncated stream is an error, not a grey lower half. LIMITSCANS: a
@@ -106,41 +95,6 @@ Result<Image> decode_jpeg(std::span<const std::byte> jpeg, uint64_t max_pixels) 
   if (tjDecompress2(tj.get(), data, jpeg.size(), image.rgb.data(), width, 0, height, TJPF_RGB,
                     TJFLAG_ACCURATEDCT | TJFLAG_STOPONWARNING | TJFLAG_LIMITSCANS) != 0)
     return make_error("corrupted JPEG: ", tjGetErrorStr2(tj.get()));
-  return image;
-}
-
-// libpng's simplified API keeps its setjmp error handling inside libpng, so no longjmp
-// crosses C++ frames; its errors come back in png_image::message.
-Result<Bytes> encode_png(const Image& image) {
-  check_image(image, __func__);
-  png_image png{};
-  png.version = PNG_IMAGE_VERSION;
-  png.width = png_uint_32(image.width);
-  png.height = png_uint_32(image.height);
-  png.format = PNG_FORMAT_RGB;
-  png_alloc_size_t size = 0;
-  if (!png_image_write_get_memory_size(png, size, 0, image.rgb.data(), 0, nullptr))
-    return make_error("cannot encode PNG: ", png.message);
-  Bytes out(size);
-  if (!png_image_write_to_memory(&png, out.data(), &size, 0, image.rgb.data(), 0, nullptr))
-    return make_error("cannot encode PNG: ", png.message);
-  out.resize(size);
-  return out;
-}
-
-Result<Image> decode_png(std::span<const std::byte> bytes, uint64_t max_pixels) {
-  png_image png{};
-  png.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_memory(&png, bytes.data(), bytes.size()))
-    return make_error("not a readable PNG: ", png.message);
-  png.format = PNG_FORMAT_RGB;  // libpng converts grey, palette, 16-bit and drops alpha
-  if (auto ok = check_dimensions(png.width, png.height, max_pixels); !ok) {
-    png_image_free(&png);
-    return make_error("PNG ", ok.error().message);
-  }
-  Image image(int(png.width), int(png.height));
-  if (!png_image_finish_read(&png, nullptr, image.rgb.data(), 0, nullptr))
-    return make_error("corrupted PNG: ", png.message);
   return image;
 }
 

@@ -1,7 +1,9 @@
 // An 8-bit RGB image in rows from the top, and PNG files.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -19,7 +21,19 @@ struct Image {
   const uint8_t* pixel(int x, int y) const { return rgb.data() + (size_t(y) * width + x) * 3; }
 };
 
-// Written atomically (temporary file, then rename).
+// Images of 1..32768 pixels per side and at most this many pixels (768 MiB of RGB).
+inline constexpr uint64_t kMaxImagePixels = uint64_t(1) << 28;
+
+// The size check of every image decoder, before any pixel is allocated.
+Result<void> check_image_size(uint64_t width, uint64_t height, uint64_t max_pixels);
+
+// PNG in memory (libpng's simplified API). Lossless: decode_png(encode_png(i)) == i byte for
+// byte; grey, palette, 16-bit and alpha PNGs are converted to 8-bit RGB. Messages say what is
+// wrong, not where the bytes came from.
+Result<std::vector<std::byte>> encode_png(const Image& image);
+Result<Image> decode_png(std::span<const std::byte> png, uint64_t max_pixels = kMaxImagePixels);
+
+// PNG files; written atomically (temporary file, then rename). Messages name the file.
 Result<void> write_png(const Image& image, const std::string& path);
 Result<Image> read_png(const std::string& path);
 

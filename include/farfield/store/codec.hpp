@@ -19,9 +19,6 @@ namespace farfield {
 
 using Bytes = std::vector<std::byte>;
 
-// Images of 1..32768 pixels per side, and at most this many pixels (768 MiB of RGB).
-inline constexpr uint64_t kMaxImagePixels = uint64_t(1) << 28;
-
 // zstd at `level` (1..19; 3 is zstd's default, fast with a fair ratio). The frame records the
 // uncompressed size, which zstd_decompress checks.
 Bytes zstd_compress(std::span<const std::byte> bytes, int level = 3);
@@ -35,9 +32,6 @@ Result<Bytes> encode_jpeg(const Image& image, int quality);
 // stream is an error rather than a half-grey image.
 Result<Image> decode_jpeg(std::span<const std::byte> jpeg, uint64_t max_pixels = kMaxImagePixels);
 
-// Lossless: decode_png(encode_png(i)) == i byte for byte.
-Result<Bytes> encode_png(const Image& image);
-// Grey, palette, 16-bit and alpha PNGs are converted to 8-bit RGB.
-Result<Image> decode_png(std::span<const std::byte> png, uint64_t max_pixels = kMaxImagePixels);
+// PNG: encode_png and decode_png of core/image.hpp.
 
 }  // namespace farfield
