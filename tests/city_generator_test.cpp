@@ -10,8 +10,12 @@
 #include <set>
 #include <string>
 
+#include "test_util.hpp"
+
 namespace farfield {
 namespace {
+
+using test::same_bytes;
 
 Scene generate(const CityOptions& options) {
   Progress quiet(true);
@@ -30,11 +34,6 @@ CityOptions small_city(uint32_t blocks) {
   CityOptions o;
   o.blocks_x = o.blocks_z = blocks;
   return o;
-}
-
-template <class T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
 std::string_view block_of(std::string_view name) {  // "block_3_4/tree_2" -> "block_3_4"

@@ -22,6 +22,8 @@
 namespace farfield {
 namespace {
 
+using test::same_bytes;
+
 using test::TempDir;
 using test::write_file;
 
@@ -32,11 +34,6 @@ const Object* find_object(const Scene& scene, std::string_view name) {
   for (const Object& o : scene.objects)
     if (scene.object_name(o) == name) return &o;
   return nullptr;
-}
-
-template <class T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
 bool same_scene(const Scene& a, const Scene& b) {

@@ -15,6 +15,8 @@
 namespace farfield {
 namespace {
 
+using test::same_bytes;
+
 Scene generate(const LandscapeOptions& options) {
   Progress quiet(true);
   auto scene = generate_landscape(options, quiet);
@@ -31,11 +33,6 @@ LandscapeOptions small_landscape() {
   o.relief = 30.0;
   o.trees = 12;
   return o;
-}
-
-template <class T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
 // Height of the terrain's triangles at (x, z), found without the generator's help.

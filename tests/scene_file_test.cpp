@@ -9,12 +9,9 @@
 namespace farfield {
 namespace {
 
-using test::TempDir;
+using test::same_bytes;
 
-template <class T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
-}
+using test::TempDir;
 
 TEST(SceneFile, RoundTripKeepsEverything) {
   TempDir dir;

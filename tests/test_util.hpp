@@ -1,8 +1,10 @@
 // Shared test helpers: a temporary folder per test, small hand-made scenes, running the CLI.
 #pragma once
 
+#include <cstring>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "farfield/scene/scene.hpp"
 
@@ -35,6 +37,12 @@ CommandResult run_farfield(const std::string& args, const std::string& cwd = "",
                            const std::string& wrapper = "");
 
 void write_file(const std::string& path, const std::string& bytes);
+
+// Arrays of plain records equal byte for byte (padding included, as written to files).
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
 std::string read_file(const std::string& path);
 
 }  // namespace farfield::test

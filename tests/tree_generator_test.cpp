@@ -16,6 +16,8 @@
 namespace farfield {
 namespace {
 
+using test::same_bytes;
+
 Scene generate(const TreeOptions& options) {
   Progress quiet(true);
   auto scene = generate_tree(options, quiet);
@@ -32,11 +34,6 @@ TreeOptions small_tree(uint32_t iterations = 3) {
   TreeOptions o;
   o.iterations = iterations;
   return o;
-}
-
-template <class T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
 glm::vec3 face_normal(const Scene& s, size_t i) {
