@@ -34,6 +34,11 @@ struct DrawCommand {
 };
 static_assert(sizeof(DrawCommand) == 20);
 
+struct QuadVertex {
+  glm::vec3 position;
+  glm::vec2 texcoord;
+};
+
 // Immutable storage; an error message when the GL cannot allocate it.
 Result<void> make_buffer(GLuint& buffer, const char* what, size_t bytes, const void* data,
                          GLbitfield flags) {
@@ -63,6 +68,16 @@ struct Renderer::State {
   std::vector<uint32_t> proxy_stream;   // this frame's gathered indices
   GLuint proxy_stream_buffer = 0;
   size_t proxy_stream_capacity = 0;  // in indices
+  // Far-field quads (DrawList::far_quads) and annotation lines: streamed every frame.
+  GLuint quad_program = 0, quad_vao = 0, quad_buffer = 0, line_vao = 0, line_buffer = 0;
+  size_t quad_capacity = 0, line_capacity = 0;  // in vertices
+  std::vector<QuadVertex> quad_vertices;
+  std::vector<ProxyVertex> line_vertices;
+  struct Slot {
+    GLuint texture = 0;
+    int width = 0, height = 0;
+  };
+  std::array<Slot, kTextureSlots> slots{};
   GLuint timer[2] = {0, 0};  // GL_TIMESTAMP queries at the frame's start and end
   GLuint framebuffer = 0, color_target = 0, depth_target = 0;  // offscreen, 0 = default
   int offscreen_width = 0, offscreen_height = 0;
@@ -72,16 +87,21 @@ struct Renderer::State {
   size_t indirect_capacity = 0;       // in commands
   std::vector<DrawCommand> commands;  // staging, capacity kept between frames
   bool has_timer = false;
+  float clear_alpha = 1.0f;
 
   ~State() {
     const GLuint buffers[] = {vertex_buffer,   index_buffer,        material_buffer,
                               indirect_buffer, proxy_vertex_buffer, proxy_index_buffer,
                               proxy_stream_buffer};
     glDeleteBuffers(7, buffers);
-    glDeleteVertexArrays(1, &vao);
-    glDeleteVertexArrays(1, &proxy_vao);
+    const GLuint stream_buffers[] = {quad_buffer, line_buffer};
+    glDeleteBuffers(2, stream_buffers);
+    const GLuint vaos[] = {vao, proxy_vao, quad_vao, line_vao};
+    glDeleteVertexArrays(4, vaos);
+    for (const Slot& slot : slots) glDeleteTextures(1, &slot.texture);
     glDeleteProgram(program);
     glDeleteProgram(proxy_program);
+    glDeleteProgram(quad_program);
     glDeleteQueries(2, timer);
     glDeleteFramebuffers(1, &framebuffer);
     const GLuint targets[] = {color_target, depth_target};
@@ -122,15 +142,14 @@ struct Renderer::State {
 
   // Binds the target, sets every piece of state the frame depends on (another user of the
   // context, such as an ImGui overlay, may have changed it), clears and starts the timer.
-  void begin_frame(const View& view) {
-    FF_ASSERT(
-        framebuffer == 0 || (view.width == offscreen_width && view.height == offscreen_height),
-        "view is %dx%d but the offscreen target is %dx%d", view.width, view.height, offscreen_width,
-        offscreen_height);
-    frame_width = view.width;
-    frame_height = view.height;
+  void begin_frame(const glm::mat4& view_projection, int width, int height) {
+    FF_ASSERT(framebuffer == 0 || (width == offscreen_width && height == offscreen_height),
+              "view is %dx%d but the offscreen target is %dx%d", width, height, offscreen_width,
+              offscreen_height);
+    frame_width = width;
+    frame_height = height;
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    glViewport(0, 0, view.width, view.height);
+    glViewport(0, 0, width, height);
     // Reversed-Z (View::projection_matrix): depth in [0, 1], 1 at the near plane, 0 at infinity.
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDisable(GL_SCISSOR_TEST);
@@ -147,12 +166,135 @@ struct Renderer::State {
 
     if (has_timer) glQueryCounter(timer[0], GL_TIMESTAMP);
     const float far_depth = 0.0f;
-    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, kSkyColor);
+    const float clear[4] = {kSkyColor[0], kSkyColor[1], kSkyColor[2], clear_alpha};
+    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, clear);
     glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &far_depth);
     glUseProgram(program);
     glBindVertexArray(vao);
     glProgramUniformMatrix4fv(program, kViewProjectionUniform, 1, GL_FALSE,
-                              glm::value_ptr(view.view_projection()));
+                              glm::value_ptr(view_projection));
+  }
+
+  // Grows a stream buffer (and points `vao`'s binding 0 at it) to hold `count` vertices.
+  void reserve_stream(GLuint& buffer, size_t& capacity, GLuint vao_, size_t count, size_t stride,
+                      const char* what) {
+    if (count <= capacity) return;
+    capacity = std::max<size_t>(64, std::bit_ceil(count));
+    glDeleteBuffers(1, &buffer);
+    const Result<void> made =
+        make_buffer(buffer, what, capacity * stride, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    FF_ASSERT(made.ok(), "%s", made.error().message.c_str());
+    glVertexArrayVertexBuffer(vao_, 0, buffer, 0, GLsizei(stride));
+  }
+
+  void upload(const TextureUpload& u) {
+    FF_ASSERT(u.slot < kTextureSlots && u.width > 0 && u.height > 0 &&
+                  (u.channels == 3 || u.channels == 4) && u.pixels != nullptr,
+              "bad texture upload: slot %u, %dx%d, %d channels", u.slot, u.width, u.height,
+              u.channels);
+    Slot& slot = slots[u.slot];
+    if (slot.width != u.width || slot.height != u.height) {
+      glDeleteTextures(1, &slot.texture);
+      glCreateTextures(GL_TEXTURE_2D, 1, &slot.texture);
+      glTextureStorage2D(slot.texture, 1, GL_RGBA8, u.width, u.height);
+      glTextureParameteri(slot.texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTextureParameteri(slot.texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTextureParameteri(slot.texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTextureParameteri(slot.texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+      slot.width = u.width;
+      slot.height = u.height;
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    // Row 0 of the pixels (the image's top) lands at t = 0; quads map it accordingly.
+    glTextureSubImage2D(slot.texture, 0, 0, 0, u.width, u.height,
+                        u.channels == 4 ? GL_RGBA : GL_RGB, GL_UNSIGNED_BYTE, u.pixels);
+  }
+
+  // The far-field quads: a blended backdrop without depth, or (in_world) depth-tested,
+  // depth-writing and two-sided at their place.
+  void draw_quads(const glm::mat4& view_projection, const DrawList& list) {
+    if (list.far_quads.empty()) return;
+    if (quad_program == 0) {
+      quad_program = build_quad_program();
+      glCreateVertexArrays(1, &quad_vao);
+      glEnableVertexArrayAttrib(quad_vao, kPositionAttrib);
+      glVertexArrayAttribFormat(quad_vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE,
+                                offsetof(QuadVertex, position));
+      glVertexArrayAttribBinding(quad_vao, kPositionAttrib, 0);
+      glEnableVertexArrayAttrib(quad_vao, kTexcoordAttrib);
+      glVertexArrayAttribFormat(quad_vao, kTexcoordAttrib, 2, GL_FLOAT, GL_FALSE,
+                                offsetof(QuadVertex, texcoord));
+      glVertexArrayAttribBinding(quad_vao, kTexcoordAttrib, 0);
+    }
+    static constexpr glm::vec2 kCornerTexcoords[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    quad_vertices.clear();
+    for (const TexturedQuad& q : list.far_quads) {
+      FF_ASSERT(q.slot < kTextureSlots && slots[q.slot].texture != 0,
+                "quad shows texture slot %u, which holds no image", q.slot);
+      for (int c = 0; c < 4; ++c) quad_vertices.push_back({q.corners[c], kCornerTexcoords[c]});
+    }
+    reserve_stream(quad_buffer, quad_capacity, quad_vao, quad_vertices.size(), sizeof(QuadVertex),
+                   "far-field quads");
+    glNamedBufferSubData(quad_buffer, 0, GLsizeiptr(quad_vertices.size() * sizeof(QuadVertex)),
+                         quad_vertices.data());
+    glUseProgram(quad_program);
+    glProgramUniformMatrix4fv(quad_program, kViewProjectionUniform, 1, GL_FALSE,
+                              glm::value_ptr(view_projection));
+    glBindVertexArray(quad_vao);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    if (!list.quads_in_world) {
+      glDisable(GL_DEPTH_TEST);
+      glDepthMask(GL_FALSE);
+    }
+    for (size_t i = 0; i < list.far_quads.size(); ++i) {
+      glBindTextureUnit(0, slots[list.far_quads[i].slot].texture);
+      glProgramUniform1f(quad_program, kOpacityUniform, list.far_quads[i].opacity);
+      glDrawArrays(GL_TRIANGLE_FAN, GLint(4 * i), 4);
+    }
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+    glEnable(GL_CULL_FACE);
+    glBindVertexArray(vao);
+    glUseProgram(program);
+  }
+
+  // Annotation lines over everything, unlit, through the proxy program.
+  void draw_lines(const glm::mat4& view_projection, const DrawList& list) {
+    if (list.lines.empty()) return;
+    if (proxy_program == 0) proxy_program = build_proxy_program();
+    if (line_vao == 0) {
+      glCreateVertexArrays(1, &line_vao);
+      glEnableVertexArrayAttrib(line_vao, kPositionAttrib);
+      glVertexArrayAttribFormat(line_vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE,
+                                offsetof(ProxyVertex, position));
+      glVertexArrayAttribBinding(line_vao, kPositionAttrib, 0);
+      glEnableVertexArrayAttrib(line_vao, kColorAttrib);
+      glVertexArrayAttribFormat(line_vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE,
+                                offsetof(ProxyVertex, color));
+      glVertexArrayAttribBinding(line_vao, kColorAttrib, 0);
+    }
+    line_vertices.clear();
+    for (const LineSegment& l : list.lines) {
+      line_vertices.push_back({l.from, l.color});
+      line_vertices.push_back({l.to, l.color});
+    }
+    reserve_stream(line_buffer, line_capacity, line_vao, line_vertices.size(),
+                   sizeof(ProxyVertex), "annotation lines");
+    glNamedBufferSubData(line_buffer, 0, GLsizeiptr(line_vertices.size() * sizeof(ProxyVertex)),
+                         line_vertices.data());
+    glUseProgram(proxy_program);
+    glProgramUniformMatrix4fv(proxy_program, kViewProjectionUniform, 1, GL_FALSE,
+                              glm::value_ptr(view_projection));
+    glBindVertexArray(line_vao);
+    glDisable(GL_DEPTH_TEST);
+    glDrawArrays(GL_LINES, 0, GLsizei(line_vertices.size()));
+    glEnable(GL_DEPTH_TEST);
+    glBindVertexArray(vao);
+    glUseProgram(program);
   }
 
   // Reads the timer synchronously: this waits for the GPU, which the benchmark does anyway.
@@ -230,7 +372,13 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene) {
 }
 
 FrameStats Renderer::draw(const View& view, const DrawList& list) {
+  return draw_with(view.view_projection(), view.width, view.height, list);
+}
+
+FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int height,
+                               const DrawList& list) {
   State& s = *state_;
+  for (const TextureUpload& u : list.uploads) s.upload(u);
   s.commands.clear();
   auto add = [&](const DrawRange& r) {
     FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
@@ -255,10 +403,12 @@ FrameStats Renderer::draw(const View& view, const DrawList& list) {
     glNamedBufferSubData(s.indirect_buffer, 0, GLsizeiptr(s.commands.size() * sizeof(DrawCommand)),
                          s.commands.data());
 
-  s.begin_frame(view);
+  s.begin_frame(view_projection, width, height);
+  if (!list.quads_in_world) s.draw_quads(view_projection, list);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, s.indirect_buffer);
   if (opaque > 0)
     glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(opaque), 0);
+  if (list.quads_in_world) s.draw_quads(view_projection, list);
   if (!list.proxies.empty()) {
     // Proxies depth-test and write like opaque geometry; alpha below one blends (coverage
     // drawn as transparency). Their commands follow the scene's in the indirect buffer.
@@ -266,7 +416,7 @@ FrameStats Renderer::draw(const View& view, const DrawList& list) {
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     glUseProgram(s.proxy_program);
     glProgramUniformMatrix4fv(s.proxy_program, kViewProjectionUniform, 1, GL_FALSE,
-                              glm::value_ptr(view.view_projection()));
+                              glm::value_ptr(view_projection));
     glBindVertexArray(s.proxy_vao);
     if (list.proxies.size() <= kProxyRangesPerCall) {
       glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
@@ -289,7 +439,11 @@ FrameStats Renderer::draw(const View& view, const DrawList& list) {
     glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
                                 reinterpret_cast<const void*>(opaque * sizeof(DrawCommand)),
                                 GLsizei(total - opaque), 0);
+    glDepthMask(GL_TRUE);
+    glEnable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
   }
+  s.draw_lines(view_projection, list);
   return s.end_frame({0.0, list.triangle_count(), list.draw_count()});
 }
 
@@ -329,7 +483,7 @@ Result<void> Renderer::set_proxies(const ProxyMesh& mesh) {
 
 FrameStats Renderer::draw_everything_at_once(const View& view) {
   State& s = *state_;
-  s.begin_frame(view);
+  s.begin_frame(view.view_projection(), view.width, view.height);
   if (s.index_count > 0)
     glDrawElementsInstancedBaseInstance(GL_TRIANGLES, GLsizei(s.index_count), GL_UNSIGNED_INT,
                                         nullptr, 1, s.white_material);
@@ -364,6 +518,24 @@ void Renderer::set_offscreen(int width, int height) {
             height, status);
   s.offscreen_width = width;
   s.offscreen_height = height;
+}
+
+void Renderer::set_clear_alpha(float alpha) { state_->clear_alpha = alpha; }
+
+std::vector<uint8_t> Renderer::capture_alpha() {
+  State& s = *state_;
+  FF_ASSERT(s.frame_width > 0 && s.frame_height > 0, "capture_alpha() before any frame was drawn");
+  glFinish();
+  std::vector<uint8_t> alpha(size_t(s.frame_width) * size_t(s.frame_height));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, s.framebuffer);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, s.frame_width, s.frame_height, GL_ALPHA, GL_UNSIGNED_BYTE, alpha.data());
+  const size_t row = size_t(s.frame_width);
+  for (int y = 0; y < s.frame_height / 2; ++y)
+    std::swap_ranges(alpha.begin() + ptrdiff_t(y * row), alpha.begin() + ptrdiff_t((y + 1) * row),
+                     alpha.begin() + ptrdiff_t((s.frame_height - 1 - y) * row));
+  return alpha;
 }
 
 Image Renderer::capture() {

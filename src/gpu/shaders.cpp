@@ -60,6 +60,29 @@ layout(location = 0) out vec4 frag_color;
 void main() { frag_color = v_color; }
 )";
 
+// Far-field images are shaded when baked, like proxies.
+constexpr const char* kQuadVertexShader = R"(#version 450 core
+layout(location = 0) in vec3 position;
+layout(location = 4) in vec2 texcoord;
+layout(location = 0) uniform mat4 view_projection;
+out vec2 v_texcoord;
+void main() {
+  gl_Position = view_projection * vec4(position, 1.0);
+  v_texcoord = texcoord;
+}
+)";
+
+constexpr const char* kQuadFragmentShader = R"(#version 450 core
+layout(binding = 0) uniform sampler2D far_image;
+layout(location = 5) uniform float opacity;
+in vec2 v_texcoord;
+layout(location = 0) out vec4 frag_color;
+void main() {
+  vec4 texel = texture(far_image, v_texcoord);
+  frag_color = vec4(texel.rgb, texel.a * opacity);
+}
+)";
+
 GLuint compile(GLenum stage, const char* source) {
   const GLuint shader = glCreateShader(stage);
   glShaderSource(shader, 1, &source, nullptr);
@@ -101,6 +124,8 @@ GLuint link(const char* name, const char* vertex, const char* fragment) {
 }  // namespace
 
 GLuint build_scene_program() { return link("scene", kVertexShader, kFragmentShader); }
+
+GLuint build_quad_program() { return link("quad", kQuadVertexShader, kQuadFragmentShader); }
 
 GLuint build_proxy_program() {
   return link("proxy", kProxyVertexShader, kProxyFragmentShader);

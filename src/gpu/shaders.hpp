@@ -6,13 +6,20 @@
 namespace farfield::gpu {
 
 // Attribute locations of the scene VAO.
-enum : GLuint { kPositionAttrib = 0, kNormalAttrib = 1, kColorAttrib = 2, kMaterialAttrib = 3 };
+enum : GLuint {
+  kPositionAttrib = 0,
+  kNormalAttrib = 1,
+  kColorAttrib = 2,
+  kMaterialAttrib = 3,
+  kTexcoordAttrib = 4,
+};
 // Uniform locations.
 enum : GLint {
   kViewProjectionUniform = 0,  // mat4
   kLightDirUniform = 1,        // vec3[2], unit, towards the lights
   kLightWeightUniform = 3,     // float, diffuse weight of each light
   kAmbientUniform = 4,         // float
+  kOpacityUniform = 5,         // float, of a textured quad
 };
 
 // Compiles and links the scene shading program. A compile or link error is a programming
@@ -21,5 +28,8 @@ GLuint build_scene_program();
 // The unlit program of proxy geometry: position (location 0), colour (location 2), the
 // view-projection matrix at kViewProjectionUniform.
 GLuint build_proxy_program();
+// Textured quads: position (location 0), texture coordinate (location 4), the texture on unit
+// 0, kOpacityUniform multiplying its alpha.
+GLuint build_quad_program();
 
 }  // namespace farfield::gpu

@@ -5,6 +5,7 @@
 #include "colorcube/colorcube_technique.hpp"
 #include "farfield/techniques/technique.hpp"
 #include "octree/octree_technique.hpp"
+#include "stratified/stratified_technique.hpp"
 
 namespace farfield {
 
@@ -18,6 +19,10 @@ constexpr std::array kTechniques = {
                                   "whole leaves drawn"},
     TechniqueInfo{"colorcube", "colour-cube octree, paper 002 (settings: colorcube.depth, cluster, "
                                "oversampling, coverage, threshold, alpha, pixels, threads)"},
+    TechniqueInfo{"stratified", "viewcells with far-field boxes, paper 000; needs a bake (settings: "
+                                "stratified.alpha, box, viewcell, resolution, codec, quality, "
+                                "delta, band, path, limit, shells, spacing, factor, style, blend, "
+                                "lookahead)"},
 };
 
 }  // namespace
@@ -54,6 +59,11 @@ Result<std::unique_ptr<Technique>> make_technique(std::string_view name,
     auto options = colorcube_options(mine);
     if (!options) return options.error();
     return std::unique_ptr<Technique>(std::make_unique<ColorcubeTechnique>(*options));
+  }
+  if (name == "stratified") {
+    auto options = stratified::stratified_options(mine);
+    if (!options) return options.error();
+    return std::unique_ptr<Technique>(std::make_unique<StratifiedTechnique>(*options));
   }
   if (!mine.empty())
     return make_error("--set ", std::string(name), ".", mine.begin()->first, ": ",

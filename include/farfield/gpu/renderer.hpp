@@ -9,6 +9,9 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
 
 #include "farfield/core/image.hpp"
 #include "farfield/core/result.hpp"
@@ -34,6 +37,9 @@ class Renderer {
   // Renders into the current framebuffer (0 = window) or an offscreen target sized
   // view.width x view.height (see set_offscreen). Clears to the sky colour first.
   FrameStats draw(const View& view, const DrawList& list);
+  // The same with any projection (bakes render through box faces, 90 x 90 degrees, and up).
+  FrameStats draw_with(const glm::mat4& view_projection, int width, int height,
+                       const DrawList& list);
   // Uploads the stand-in geometry that DrawList::proxies refer to (replacing any before);
   // an empty mesh frees it. Fails when the GPU cannot hold it.
   Result<void> set_proxies(const ProxyMesh& mesh);
@@ -47,6 +53,11 @@ class Renderer {
   void set_offscreen(int width, int height);
   // Reads back the last frame (glFinish first). Offscreen target, or the default framebuffer.
   Image capture();
+  // The alpha channel of the last frame, rows from the top: the clear colour's alpha where
+  // nothing was drawn (see set_clear_alpha), the surfaces' coverage elsewhere.
+  std::vector<uint8_t> capture_alpha();
+  // The alpha the sky is cleared to (1 by default; 0 lets a bake find the empty pixels).
+  void set_clear_alpha(float alpha);
 
  private:
   Renderer();

@@ -45,6 +45,12 @@ class Technique {
   // Stand-in geometry that the technique's DrawList::proxies refer to, if any; valid after
   // load() for the technique's lifetime. The renderer uploads it (Renderer::set_proxies).
   virtual const ProxyMesh* proxies() const { return nullptr; }
+  // Bird's-eye pictures (paper 000, Fig. 5-2): called after select() for `eye` with its list,
+  // adds the technique's own marks (its viewcell, ...) and places stand-ins where they are.
+  virtual void annotate(const View& /*eye*/, DrawList& /*list*/) const {}
+  // The first error met while running (a damaged blob found by a background load); empty if
+  // none. select() has no error channel: callers check this and stop.
+  virtual std::string failure() const { return {}; }
 };
 
 // Technique settings from the command line (`--set NAME.KEY=VALUE`, e.g. colorcube.depth=6):

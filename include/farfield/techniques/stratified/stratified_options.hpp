@@ -1,0 +1,54 @@
+// Settings of the stratified technique (paper 000), from `--set stratified.KEY=VALUE`.
+// Bake settings are written into the pack and read back by the walk; walk settings apply to
+// the run that sets them.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+
+#include "farfield/core/bounds.hpp"
+#include "farfield/core/result.hpp"
+#include "farfield/store/store.hpp"
+#include "farfield/techniques/stratified/viewcell_analysis.hpp"
+
+namespace farfield::stratified {
+
+// paper 000, Sec. 5.1: what the walk draws.
+enum class Style {
+  full,         // near objects and the far-field box
+  near_only,    // near objects only
+  far_objects,  // far objects as geometry, no near objects
+  far_texture,  // the far-field box only
+  brute,        // every object
+};
+const char* style_name(Style style);
+
+struct StratifiedOptions {
+  // Bake.
+  double alpha_deg = 2.0;    // alpha_max
+  double box = 240.0;        // b, metres (the innermost box with shells)
+  double viewcell = 0.0;     // v; 0: from Eq. 2.2 (Eq. 4.1 with shells)
+  int resolution = 512;      // pixels per box side
+  ImageCodec codec = ImageCodec::jpeg(85);
+  bool delta = false;        // PNG residuals against a neighbouring viewcell (Sec. 3.1.4)
+  std::string band = "street";  // navigable heights: street, all, or "Y0,Y1"
+  std::string path;             // bake only the viewcells this camera path passes through
+  std::optional<Bounds3> limit;  // bake only the viewcells meeting this box (x0,z0,x1,z1)
+  int shells = 1;               // Ch. 4
+  Spacing spacing = Spacing::exponential;
+  double factor = 1.0;          // 0 < factor: b_{i+1} from b_i (1: the paper's 1.13 / 1.72 below)
+  // Walk.
+  Style style = Style::full;
+  int blend_frames = 0;  // Sec. 7.1: fade the new far field in over this many frames
+  int lookahead = 2;     // viewcells prefetched ahead along the velocity (Sec. 3.2.1)
+};
+
+// Reads the keys of `--set stratified.KEY=VALUE`; an unknown key or a bad value is an error
+// that names it.
+Result<StratifiedOptions> stratified_options(const std::map<std::string, std::string>& settings);
+
+// The navigable region of `band` within the scene's bounds: street is the bottom 3 m.
+Result<Bounds3> navigable_region(const std::string& band, const Bounds3& scene_bounds);
+
+}  // namespace farfield::stratified

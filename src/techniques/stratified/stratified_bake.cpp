@@ -1,0 +1,374 @@
+// The stratified bake (paper 000, Sec. 3.1): viewcells in kd order, far fields rendered onto
+// box sides with the GL on this thread while a second thread encodes and writes the previous
+// viewcell (one transaction each, so a killed bake resumes where it stopped).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include <glm/geometric.hpp>
+
+#include "farfield/core/camera_path.hpp"
+#include "farfield/gpu/context.hpp"
+#include "farfield/gpu/renderer.hpp"
+#include "farfield/store/store.hpp"
+#include "farfield/techniques/object_set.hpp"
+#include "farfield/techniques/stratified/box_faces.hpp"
+#include "stratified_technique.hpp"
+
+namespace farfield {
+
+using namespace stratified;
+
+namespace {
+
+// A bake of more viewcells than this is refused: limit it to a path or a region.
+constexpr uint64_t kMaxViewcells = 2'000'000;
+
+// Whether a box meets the pyramid from `centre` through a side (apex at the centre).
+bool in_face_pyramid(const Bounds3& b, const glm::vec3& centre, const FaceFrame& f) {
+  const glm::vec3 planes[4] = {f.normal + f.right, f.normal - f.right, f.normal + f.up,
+                               f.normal - f.up};
+  for (const glm::vec3& n : planes) {
+    // The box corner farthest along n; outside when even it is behind the plane.
+    const glm::vec3 far{n.x > 0 ? b.max.x : b.min.x, n.y > 0 ? b.max.y : b.min.y,
+                        n.z > 0 ? b.max.z : b.min.z};
+    if (glm::dot(far - centre, n) < 0.0f) return false;
+  }
+  return true;
+}
+
+// The shells' boxes and viewcells: Eq. 2.2 for one shell, Eq. 4.1 for several.
+Result<std::vector<ShellParams>> plan_shells(const StratifiedOptions& o, double model) {
+  if (o.shells == 1) {
+    if (o.viewcell > 0) return std::vector<ShellParams>{{o.box, o.viewcell}};
+    auto v = viewcell_length(o.alpha_deg, o.box, model);
+    if (!v) return make_error("stratified: ", v.error().message);
+    return std::vector<ShellParams>{{o.box, *v}};
+  }
+  if (o.viewcell > 0)
+    return make_error("--set stratified.viewcell applies to one shell; with shells the viewcells "
+                      "follow from Eq. 4.1");
+  auto boxes = box_series(o.spacing, o.box, o.factor, model, o.shells);
+  if (!boxes) return make_error("stratified: ", boxes.error().message);
+  auto shells = shell_viewcells(o.alpha_deg, *boxes, model);
+  if (!shells) return make_error("stratified: ", shells.error().message);
+  std::vector<ShellParams> out;
+  for (const Shell& s : *shells) out.push_back({s.box, s.viewcell});
+  return out;
+}
+
+// The viewcells of each shell that the bake covers: every one, or those a camera path passes
+// through and those meeting a limit box.
+Result<std::vector<std::optional<std::vector<CellKey>>>> wanted_cells(
+    const StratifiedOptions& o, const std::vector<ViewcellTree>& trees) {
+  std::vector<std::optional<std::vector<CellKey>>> wanted(trees.size());
+  if (o.path.empty() && !o.limit) return wanted;
+  std::optional<CameraPath> path;
+  if (!o.path.empty()) {
+    auto read = read_camera_path(o.path);
+    if (!read) return read.error();
+    path = std::move(*read);
+  }
+  for (size_t s = 0; s < trees.size(); ++s) {
+    const ViewcellTree& tree = trees[s];
+    std::set<CellKey> cells;
+    if (path) {
+      // Every viewcell the path's segments pass through, sampled at a quarter viewcell.
+      const auto& frames = path->frames;
+      for (size_t i = 0; i < frames.size(); ++i) {
+        const glm::vec3 a = frames[i].position;
+        const glm::vec3 b = i + 1 < frames.size() ? frames[i + 1].position : a;
+        const int steps = 1 + int(glm::length(b - a) / (0.25f * float(tree.viewcell())));
+        for (int k = 0; k <= steps; ++k)
+          if (auto key = tree.locate(a + (b - a) * (float(k) / float(steps)))) cells.insert(*key);
+      }
+      if (cells.empty() && s == 0)
+        return make_error(o.path, ": the path never enters the navigable region (stratified.band)");
+    }
+    if (o.limit) {
+      Bounds3 limit = *o.limit;
+      limit.min.y = tree.region().min.y;
+      limit.max.y = tree.region().max.y;
+      for (const CellKey& k : tree.cells_meeting(limit)) cells.insert(k);
+    }
+    wanted[s] = std::vector<CellKey>(cells.begin(), cells.end());
+  }
+  return wanted;
+}
+
+// The writer thread's work: one viewcell at a time, in order.
+struct CellJob {
+  int shell;
+  CellKey key;
+  CellRecord record;
+};
+
+class CellWriter {
+ public:
+  CellWriter(Store& store, const BakeParams& params, uint32_t object_count)
+      : store_(store), params_(params), object_count_(object_count),
+        thread_([this] { run(); }) {}
+  ~CellWriter() { finish(); }
+
+  // Waits while two viewcells are already queued (memory stays bounded).
+  void push(CellJob job) {
+    std::unique_lock lock(mutex_);
+    space_.wait(lock, [&] { return queue_.size() < 2 || !error_.empty(); });
+    queue_.push_back(std::move(job));
+    work_.notify_one();
+  }
+  void finish() {
+    {
+      std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    work_.notify_one();
+    if (thread_.joinable()) thread_.join();
+  }
+  std::string error() {
+    std::lock_guard lock(mutex_);
+    return error_;
+  }
+  uint64_t written() {
+    std::lock_guard lock(mutex_);
+    return written_;
+  }
+
+ private:
+  void run() {
+    for (;;) {
+      CellJob job;
+      {
+        std::unique_lock lock(mutex_);
+        work_.wait(lock, [&] { return done_ || !queue_.empty(); });
+        if (queue_.empty() || !error_.empty()) return;
+        job = std::move(queue_.front());
+        queue_.pop_front();
+      }
+      space_.notify_one();
+      auto ok = write(job);
+      std::lock_guard lock(mutex_);
+      if (!ok) {
+        error_ = ok.error().message;
+        space_.notify_all();
+        return;
+      }
+      ++written_;
+    }
+  }
+
+  // Delta coding (Sec. 3.1.4) groups 2 x 2 x 2 neighbouring viewcells: the first one baked is
+  // stored whole and the others as differences to it.
+  Result<void> write(const CellJob& job) {
+    if (!params_.delta)
+      return write_cell(store_, job.shell, job.key, job.record, params_, nullptr, std::nullopt);
+    const CellKey group{{job.key.at[0] & ~1u, job.key.at[1] & ~1u, job.key.at[2] & ~1u}};
+    const auto id = std::pair{job.shell, group.packed()};
+    auto it = references_.find(id);
+    if (it == references_.end()) {
+      // A resumed bake may already hold the group's reference.
+      std::optional<std::pair<CellKey, CellRecord>> found;
+      for (uint32_t i = 0; i < 8 && !found; ++i) {
+        const CellKey k{{group.at[0] + (i & 1), group.at[1] + (i >> 1 & 1), group.at[2] + (i >> 2)}};
+        auto has = store_.contains(cell_prefix(job.shell, k) + "done");
+        if (!has) return has.error();
+        if (!*has) continue;
+        auto r = read_cell(store_, job.shell, k, params_, object_count_);
+        if (!r) return r.error();
+        if (!r->reference) found.emplace(k, std::move(*r));
+      }
+      if (!found) {
+        if (auto ok = write_cell(store_, job.shell, job.key, job.record, params_, nullptr,
+                                 std::nullopt);
+            !ok)
+          return ok;
+        remember(id, job.key, job.record);
+        return {};
+      }
+      it = remember(id, found->first, found->second);
+    }
+    return write_cell(store_, job.shell, job.key, job.record, params_, &it->second.second,
+                      it->second.first);
+  }
+
+  using References = std::map<std::pair<int, uint64_t>, std::pair<CellKey, CellRecord>>;
+  References::iterator remember(const std::pair<int, uint64_t>& id, const CellKey& key,
+                                const CellRecord& record) {
+    if (references_.size() >= 16) references_.clear();  // kd order keeps groups together
+    return references_.insert_or_assign(id, std::pair{key, record}).first;
+  }
+
+  Store& store_;
+  const BakeParams& params_;
+  uint32_t object_count_;
+  References references_;
+  std::mutex mutex_;
+  std::condition_variable work_, space_;
+  std::deque<CellJob> queue_;
+  std::string error_;
+  uint64_t written_ = 0;
+  bool done_ = false;
+  std::thread thread_;
+};
+
+}  // namespace
+
+Result<void> StratifiedTechnique::bake(const Scene& scene, Store& store, Progress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  auto region = navigable_region(options_.band, scene.bounds);
+  if (!region) return region.error();
+  // The largest distance from a viewpoint to a far point: the scene's diagonal. Eq. 2.2's
+  // error grows with it, so this bounds the error for every far point (the paper's l is the
+  // model's length, which a point in the opposite corner exceeds).
+  const double model = glm::length(scene.bounds.size());
+  auto shells = plan_shells(options_, model);
+  if (!shells) return shells.error();
+
+  BakeParams params;
+  params.scene = scene_fingerprint(scene);
+  params.alpha_deg = options_.alpha_deg;
+  params.region = *region;
+  params.shells = *shells;
+  params.resolution = options_.resolution;
+  params.codec = options_.codec;
+  params.delta = options_.delta;
+  const std::string text = to_text(params);
+  auto existing = store.get_meta(kParamsKey);
+  if (!existing) return existing.error();
+  if (*existing && **existing != text)
+    return make_error(store.path(), " holds a stratified bake with other settings or of another "
+                      "scene; bake into a new pack (its settings:\n", **existing, ")");
+  if (!*existing)
+    if (auto ok = store.set_meta(kParamsKey, text); !ok) return ok;
+
+  std::vector<ViewcellTree> trees;
+  for (const ShellParams& s : params.shells) {
+    auto tree = ViewcellTree::create(*region, s.viewcell, s.box);
+    if (!tree) return tree.error();
+    trees.push_back(std::move(*tree));
+  }
+  auto wanted = wanted_cells(options_, trees);
+  if (!wanted) return wanted.error();
+  uint64_t total = 0;
+  std::vector<std::vector<uint64_t>> done(trees.size());
+  for (size_t s = 0; s < trees.size(); ++s) {
+    total += (*wanted)[s] ? (*wanted)[s]->size() : trees[s].cell_count();
+    auto cells = baked_cells(store, int(s));
+    if (!cells) return cells.error();
+    for (const CellKey& k : *cells) done[s].push_back(k.packed());
+    std::sort(done[s].begin(), done[s].end());
+  }
+  if (total > kMaxViewcells)
+    return make_error("stratified: ", std::to_string(total), " viewcells (v ",
+                      std::to_string(params.shells[0].viewcell), " m) are more than ",
+                      std::to_string(kMaxViewcells), " to bake; limit the bake with --set "
+                      "stratified.path=PATH.json or stratified.limit=X0,Z0,X1,Z1, or raise alpha");
+  uint64_t already = 0;
+  for (size_t s = 0; s < trees.size(); ++s) {
+    if (!(*wanted)[s]) {
+      already += done[s].size();
+      continue;
+    }
+    for (const CellKey& k : *(*wanted)[s])
+      already += std::binary_search(done[s].begin(), done[s].end(), k.packed());
+  }
+  if (already > 0)
+    std::fprintf(stderr, "stratified: %llu of %llu viewcells already baked; continuing\n",
+                 (unsigned long long)already, (unsigned long long)total);
+
+  auto context = gpu::create_headless_context();
+  if (!context) return context.error();
+  auto renderer = gpu::Renderer::create(scene);
+  if (!renderer) return renderer.error();
+  const int resolution = params.resolution;
+  (*renderer)->set_offscreen(resolution, resolution);
+
+  std::vector<Bounds3> bounds(scene.objects.size());
+  for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = scene.objects[i].bounds;
+  ObjectSet far(scene);
+  DrawList list;
+  std::vector<uint8_t> near_flags(scene.objects.size());
+  CellWriter writer(store, params, uint32_t(scene.objects.size()));
+  std::string error;
+  progress.start("bake stratified", total - already);
+
+  for (size_t s = 0; s < trees.size() && error.empty(); ++s) {
+    const ViewcellTree& tree = trees[s];
+    const bool outermost = s + 1 == trees.size();
+    (*renderer)->set_clear_alpha(outermost ? 1.0f : 0.0f);
+    const std::vector<CellKey>* want = (*wanted)[s] ? &*(*wanted)[s] : nullptr;
+    tree.visit(bounds, want, [&](const CellKey& key, std::span<const uint32_t> near) {
+      if (std::binary_search(done[s].begin(), done[s].end(), key.packed())) return true;
+      if (std::string e = writer.error(); !e.empty()) {
+        error = e;
+        return false;
+      }
+      CellJob job{int(s), key, {}};
+      if (s == 0) job.record.near.assign(near.begin(), near.end());
+      for (uint32_t i : near) near_flags[i] = 1;
+      // Shell s's far field ends where shell s+1's box may be: the union of the boxes of the
+      // outer viewcells that overlap this one (Ch. 4); the outermost's is the rest of the model.
+      Bounds3 reach = scene.bounds;
+      if (!outermost) {
+        reach = Bounds3{};
+        for (const CellKey& k : trees[s + 1].cells_meeting(tree.cell_bounds(key)))
+          reach.expand(trees[s + 1].box_bounds(k));
+      }
+      const glm::vec3 centre = tree.centre(key);
+      for (int f = 0; f < kFaces; ++f) {
+        const FaceFrame frame = face_frame(f);
+        far.clear();
+        bool any = false;
+        for (uint32_t i = 0; i < bounds.size(); ++i)
+          if (!near_flags[i] && meet(bounds[i], reach) && in_face_pyramid(bounds[i], centre, frame)) {
+            far.insert(i);
+            any = true;
+          }
+        // A side with nothing behind it stays empty: the sky shows through (for a city lower
+        // than the box, the top and bottom: the paper's four vertical sides).
+        if (!any) continue;
+        list.clear();
+        far.emit(list);
+        (*renderer)->draw_with(face_view_projection(centre, float(tree.box()), f), resolution,
+                               resolution, list);
+        Image image = (*renderer)->capture();
+        FaceImage& face = job.record.faces[size_t(f)];
+        face.width = face.height = resolution;
+        if (outermost) {
+          face.channels = 3;
+          face.pixels = std::move(image.rgb);
+        } else {
+          const std::vector<uint8_t> alpha = (*renderer)->capture_alpha();
+          face.channels = 4;
+          face.pixels.resize(alpha.size() * 4);
+          for (size_t p = 0; p < alpha.size(); ++p) {
+            std::copy_n(&image.rgb[3 * p], 3, &face.pixels[4 * p]);
+            face.pixels[4 * p + 3] = alpha[p];
+          }
+        }
+      }
+      for (uint32_t i : near) near_flags[i] = 0;
+      writer.push(std::move(job));
+      progress.advance();
+      return true;
+    });
+  }
+  writer.finish();
+  progress.finish();
+  if (error.empty()) error = writer.error();
+  if (!error.empty()) return make_error(error);
+  bake_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::fprintf(stderr, "stratified: baked %llu viewcells (v %.2f m, box %.0f m) in %.1f s\n",
+               (unsigned long long)writer.written(), params.shells[0].viewcell,
+               params.shells[0].box, bake_s_);
+  return {};
+}
+
+}  // namespace farfield

@@ -1,0 +1,273 @@
+#include "stratified_technique.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include <glm/geometric.hpp>
+
+#include "farfield/core/frustum.hpp"
+#include "farfield/store/store.hpp"
+#include "farfield/techniques/stratified/box_faces.hpp"
+
+namespace farfield {
+
+using namespace stratified;
+
+namespace {
+constexpr size_t kSlotSets = kTextureSlots / kFaces;  // viewcells resident on the GPU at once
+constexpr size_t kCacheCells = 24;                     // decoded viewcells kept in memory
+constexpr uint32_t kCyan = 0xffffff00u;                // RGBA8, R in the low byte
+}  // namespace
+
+StratifiedTechnique::~StratifiedTechnique() = default;
+
+Result<void> StratifiedTechnique::load(const Scene&) {
+  return make_error("stratified draws from a bake: run `farfield bake SCENE --technique "
+                    "stratified --out PACK.ffpack`, then pass --store PACK.ffpack");
+}
+
+Result<void> StratifiedTechnique::load_baked(const Scene& scene, const Store& store) {
+  auto text = store.get_meta(kParamsKey);
+  if (!text) return text.error();
+  if (!*text)
+    return make_error(store.path(), ": holds no stratified bake (run: farfield bake SCENE "
+                                    "--technique stratified --out ", store.path(), ")");
+  auto params = parse_params(**text);
+  if (!params) return make_error(store.path(), ": ", params.error().message);
+  if (params->scene != scene_fingerprint(scene))
+    return make_error(store.path(), ": its stratified bake was made for another scene");
+  params_ = *params;
+  scene_ = &scene;
+  shells_.clear();
+  for (size_t s = 0; s < params_.shells.size(); ++s) {
+    auto tree = ViewcellTree::create(params_.region, params_.shells[s].viewcell,
+                                     params_.shells[s].box);
+    if (!tree) return make_error(store.path(), ": ", tree.error().message);
+    auto cells = baked_cells(store, int(s));
+    if (!cells) return cells.error();
+    Shell shell{std::move(*tree), {}};
+    for (const CellKey& k : *cells) {
+      if (!shell.tree.valid(k))
+        return make_error(store.path(), ": viewcell ", k.name(), " lies outside the bake's grid");
+      shell.baked.push_back(k.packed());
+    }
+    std::sort(shell.baked.begin(), shell.baked.end());
+    shells_.push_back(std::move(shell));
+  }
+  if (shells_[0].baked.empty())
+    return make_error(store.path(), ": its stratified bake has no finished viewcell yet");
+  auto loader = CellLoader::start(store.path(), params_, uint32_t(scene.objects.size()), kCacheCells);
+  if (!loader) return loader.error();
+  loader_ = std::move(*loader);
+  selected_ = std::make_unique<ObjectSet>(scene);
+  resident_.clear();
+  current_.assign(shells_.size(), std::nullopt);
+  previous_.reset();
+  last_position_.reset();
+  frame_ = crossings_ = stalls_ = unbaked_frames_ = outside_frames_ = 0;
+  return {};
+}
+
+bool StratifiedTechnique::baked(int shell, const CellKey& key) const {
+  const auto& b = shells_[size_t(shell)].baked;
+  return std::binary_search(b.begin(), b.end(), key.packed());
+}
+
+int StratifiedTechnique::make_resident(const CellId& id,
+                                       const std::shared_ptr<const CellRecord>& record,
+                                       DrawList& out) {
+  for (size_t i = 0; i < resident_.size(); ++i)
+    if (resident_[i].id == id) {
+      resident_[i].last_used = frame_;
+      return int(i);
+    }
+  size_t set = resident_.size();
+  if (set < kSlotSets) {
+    resident_.push_back({id, record, frame_});
+  } else {
+    set = 0;  // the least recently used; never one of this frame's
+    for (size_t i = 1; i < resident_.size(); ++i)
+      if (resident_[i].last_used < resident_[set].last_used) set = i;
+    resident_[set] = {id, record, frame_};
+  }
+  // paper 000, Sec. 3.2: on a crossing the new viewcell's textures replace the old ones.
+  for (int f = 0; f < kFaces; ++f) {
+    const FaceImage& face = record->faces[size_t(f)];
+    if (face.channels == 0) continue;
+    out.uploads.push_back({uint32_t(set * kFaces + size_t(f)), face.width, face.height,
+                           face.channels, face.pixels.data()});
+  }
+  return int(set);
+}
+
+void StratifiedTechnique::add_box(int shell, const CellKey& key, int set, float opacity,
+                                  DrawList& out) const {
+  const ViewcellTree& tree = shells_[size_t(shell)].tree;
+  const glm::vec3 centre = tree.centre(key);
+  const CellRecord& record = *resident_[size_t(set)].record;
+  for (int f = 0; f < kFaces; ++f)
+    if (record.faces[size_t(f)].channels != 0)
+      out.far_quads.push_back({face_corners(centre, float(tree.box()), f),
+                               uint32_t(size_t(set) * kFaces + size_t(f)), opacity});
+}
+
+void StratifiedTechnique::prefetch_ahead(const glm::vec3& position) {
+  const float speed = glm::length(velocity_);
+  if (speed < 1e-5f || options_.lookahead == 0) return;
+  const glm::vec3 direction = velocity_ / speed;
+  // paper 000, Sec. 3.2.1: the viewcells the viewpoint will enter next, from its velocity.
+  for (size_t s = 0; s < shells_.size(); ++s) {
+    const ViewcellTree& tree = shells_[s].tree;
+    const float step = float(tree.viewcell()) * 0.5f;
+    const float reach = float(tree.viewcell()) * (float(options_.lookahead) + 0.5f);
+    std::optional<CellKey> last = current_[s];
+    for (float d = step; d <= reach; d += step) {
+      const auto key = tree.locate(position + direction * d);
+      if (!key || key == last) continue;
+      last = key;
+      if (baked(int(s), *key)) loader_->prefetch({int(s), *key});
+    }
+  }
+}
+
+void StratifiedTechnique::select(const View& view, const FrameBudget&, DrawList& out) {
+  out.clear();
+  ++frame_;
+  const glm::vec3 p = view.pose.position;
+  if (last_position_) velocity_ = p - *last_position_;
+  last_position_ = p;
+  selected_->clear();
+  const Frustum frustum(view);
+  const auto& objects = scene_->objects;
+  auto add_visible = [&](uint32_t object) {
+    if (frustum.classify(objects[object].bounds) != Visibility::none) selected_->insert(object);
+  };
+  auto everything_visible = [&] {
+    for (uint32_t i = 0; i < objects.size(); ++i) add_visible(i);
+    selected_->emit(out);
+  };
+  if (options_.style == Style::brute) {  // paper 000, Sec. 5.1: every object
+    selected_->insert_all();
+    selected_->emit(out);
+    return;
+  }
+
+  const auto key = shells_[0].tree.locate(p);
+  if (!key || !baked(0, *key)) {
+    // No far field here: outside the navigable region, or a viewcell the bake left out.
+    ++(key ? unbaked_frames_ : outside_frames_);
+    std::fill(current_.begin(), current_.end(), std::nullopt);
+    everything_visible();
+    return;
+  }
+  bool stalled = false;
+  const auto record = loader_->get({0, *key}, &stalled);
+  if (!record) {  // damaged: failure() says so; draw correctly meanwhile
+    everything_visible();
+    return;
+  }
+  if (current_[0] != key) {
+    if (current_[0]) {
+      ++crossings_;
+      previous_ = current_[0];
+      crossed_at_ = frame_;
+    }
+    current_[0] = key;
+  }
+  for (size_t s = 1; s < shells_.size(); ++s) {
+    const auto k = shells_[s].tree.locate(p);
+    current_[s] = k && baked(int(s), *k) ? k : std::nullopt;
+  }
+  prefetch_ahead(p);
+
+  const std::vector<uint32_t>& near = record->near;
+  switch (options_.style) {
+    case Style::full:
+    case Style::near_only:
+      for (uint32_t object : near) add_visible(object);
+      break;
+    case Style::far_objects:
+      for (uint32_t i = 0; i < objects.size(); ++i)
+        if (!std::binary_search(near.begin(), near.end(), i)) add_visible(i);
+      break;
+    default:
+      break;
+  }
+  selected_->emit(out);
+
+  if (options_.style == Style::full || options_.style == Style::far_texture) {
+    // Outermost shell first: each inner box is drawn over the one around it (Ch. 4).
+    for (size_t s = shells_.size(); s-- > 1;) {
+      if (!current_[s]) continue;
+      const auto r = loader_->get({int(s), *current_[s]}, &stalled);
+      if (!r) continue;
+      add_box(int(s), *current_[s], make_resident({int(s), *current_[s]}, r, out), 1.0f, out);
+    }
+    const int set = make_resident({0, *key}, record, out);
+    const uint64_t since = frame_ - crossed_at_;
+    if (previous_ && options_.blend_frames > 0 && since < uint64_t(options_.blend_frames)) {
+      // paper 000, Sec. 7.1 (interpolation): fade the new far field in over the old one.
+      if (auto old = loader_->peek({0, *previous_})) {
+        add_box(0, *previous_, make_resident({0, *previous_}, old, out), 1.0f, out);
+        add_box(0, *key, set, float(since + 1) / float(options_.blend_frames + 1), out);
+      } else {
+        add_box(0, *key, set, 1.0f, out);
+      }
+    } else {
+      add_box(0, *key, set, 1.0f, out);
+    }
+  }
+  if (stalled) ++stalls_;
+}
+
+void StratifiedTechnique::annotate(const View&, DrawList& list) const {
+  list.quads_in_world = true;
+  // The top side would hide the inside from above (paper 000, Fig. 5-2 shows the box open).
+  std::erase_if(list.far_quads, [](const TexturedQuad& q) { return q.slot % kFaces == 4; });
+  if (current_.empty() || !current_[0]) return;
+  const Bounds3 b = shells_[0].tree.cell_bounds(*current_[0]);
+  auto corner = [&](int i) {
+    return glm::vec3(i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y,
+                     i & 4 ? b.max.z : b.min.z);
+  };
+  for (int i = 0; i < 8; ++i)
+    for (int axis = 1; axis < 8; axis <<= 1)
+      if (!(i & axis)) list.lines.push_back({corner(i), corner(i | axis), kCyan});
+}
+
+std::string StratifiedTechnique::failure() const { return loader_ ? loader_->error() : ""; }
+
+std::string StratifiedTechnique::describe() const {
+  if (shells_.empty()) return {};
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "%zu of %llu viewcells baked, v %.2f m, box %.0f m, alpha %.2f deg, %d px %s, "
+                "%zu shell(s), style %s",
+                shells_[0].baked.size(), (unsigned long long)shells_[0].tree.cell_count(),
+                shells_[0].tree.viewcell(), shells_[0].tree.box(), params_.alpha_deg,
+                params_.resolution, codec_name(params_.codec.codec), shells_.size(),
+                style_name(options_.style));
+  return text;
+}
+
+std::vector<std::pair<std::string, double>> StratifiedTechnique::figures() const {
+  std::vector<std::pair<std::string, double>> f;
+  if (shells_.empty()) return f;
+  f.emplace_back("alpha_max_deg", params_.alpha_deg);
+  f.emplace_back("resolution", params_.resolution);
+  for (size_t s = 0; s < shells_.size(); ++s) {
+    const std::string p = "shell" + std::to_string(s) + "_";
+    f.emplace_back(p + "viewcell_m", shells_[s].tree.viewcell());
+    f.emplace_back(p + "box_m", shells_[s].tree.box());
+    f.emplace_back(p + "viewcells_baked", double(shells_[s].baked.size()));
+    f.emplace_back(p + "viewcells_in_region", double(shells_[s].tree.cell_count()));
+  }
+  f.emplace_back("crossings", double(crossings_));
+  f.emplace_back("stalls", double(stalls_));
+  f.emplace_back("viewcell_loads", loader_ ? double(loader_->loads()) : 0.0);
+  f.emplace_back("frames_in_unbaked_viewcells", double(unbaked_frames_));
+  f.emplace_back("frames_outside_region", double(outside_frames_));
+  return f;
+}
+
+}  // namespace farfield
