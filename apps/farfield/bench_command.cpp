@@ -46,6 +46,10 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
       ->capture_default_str();
   cmd->add_option("--samples", s->bench.sample_images, "Frames saved as PNG per technique")
       ->capture_default_str();
+  cmd->add_option("--birdseye", s->bench.birdseye_height,
+                  "Also save a bird's-eye picture of each sample frame from this many metres "
+                  "above the eye (frustum in red; stratified adds its viewcell and box)")
+      ->check(CLI::Range(0.0f, 100000.0f));
   cmd->add_flag("--no-plot", s->no_plot, "Skip the frame-time plot (needs python3-matplotlib)");
   cmd->add_option("--out,-o", s->bench.out_dir, "Output folder")->required();
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");

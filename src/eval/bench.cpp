@@ -18,6 +18,7 @@
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/technique.hpp"
+#include "farfield/eval/birdseye.hpp"
 #include "frame_plot.hpp"
 
 namespace farfield {
@@ -118,7 +119,6 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
         return ok.error();
       record.load_s = ms_since(start) / 1000.0;
       record.description = technique->describe();
-      record.figures = technique->figures();
       const ProxyMesh* proxies = technique->proxies();
       if (auto ok = (*renderer)->set_proxies(proxies ? *proxies : ProxyMesh{}); !ok)
         return ok.error();
@@ -183,11 +183,30 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
               return ok.error();
           }
         }
+        if (sample && options.birdseye_height > 0) {
+          // paper 000, Fig. 5-2: the same frame's selection seen from above.
+          const View eye = view_at(f);
+          if (technique) technique->annotate(eye, list);
+          else list.clear();
+          add_frustum_lines(eye, options.birdseye_height * 0.5f, list);
+          const View above = birdseye_view(eye, options.birdseye_height);
+          if (technique) (*renderer)->draw(above, list);
+          else (*renderer)->draw_everything_at_once(above);
+          if (auto ok = write_png((*renderer)->capture(),
+                                  frame_file(options.out_dir, name, f, "_birdseye"));
+              !ok)
+            return ok.error();
+        }
       }
       record.frames.push_back(record_f);
       progress.advance();
+      if (technique) {
+        if (std::string failure = technique->failure(); !failure.empty())
+          return make_error(name, ": ", failure);
+      }
     }
     progress.finish();
+    if (technique) record.figures = technique->figures();  // after the run: counts included
     record.peak_rss_mb = peak_rss_mb();
     report.techniques.push_back(std::move(record));
   }

@@ -20,7 +20,7 @@ constexpr std::array kTechniques = {
     TechniqueInfo{"colorcube", "colour-cube octree, paper 002 (settings: colorcube.depth, cluster, "
                                "oversampling, coverage, threshold, alpha, pixels, threads)"},
     TechniqueInfo{"stratified", "viewcells with far-field boxes, paper 000; needs a bake (settings: "
-                                "stratified.alpha, box, viewcell, resolution, codec, quality, "
+                                "stratified.alpha, box, viewcell, sizing, resolution, codec, quality, "
                                 "delta, band, path, limit, shells, spacing, factor, style, blend, "
                                 "lookahead)"},
 };

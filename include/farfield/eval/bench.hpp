@@ -32,6 +32,7 @@ struct BenchOptions {
   uint32_t reference_every = 10;  // compare with brute every N frames (and on sample frames)
   uint32_t sample_images = 3;    // frames saved as PNG per technique, spread over the path
   bool plot = true;              // frame_times.png through python3-matplotlib
+  float birdseye_height = 0;     // > 0: also a bird's-eye picture of each sample frame
 };
 
 struct FrameRecord {

@@ -44,23 +44,38 @@ bool in_face_pyramid(const Bounds3& b, const glm::vec3& centre, const FaceFrame&
   return true;
 }
 
-// The shells' boxes and viewcells: Eq. 2.2 for one shell, Eq. 4.1 for several.
-Result<std::vector<ShellParams>> plan_shells(const StratifiedOptions& o, double model) {
+// The shells' boxes and viewcells: the strict 3D bound, or Eq. 2.2 for one shell and Eq. 4.1
+// for several (paper sizing).
+Result<std::vector<ShellParams>> plan_shells(const StratifiedOptions& o, double model,
+                                             double height) {
+  auto strict = [&](double box) -> Result<double> {
+    auto v = strict_viewcell_length(o.alpha_deg, box, height);
+    if (!v) return make_error("stratified: ", v.error().message);
+    return v;
+  };
   if (o.shells == 1) {
     if (o.viewcell > 0) return std::vector<ShellParams>{{o.box, o.viewcell}};
-    auto v = viewcell_length(o.alpha_deg, o.box, model);
+    auto v = o.paper_sizing ? viewcell_length(o.alpha_deg, o.box, model) : strict(o.box);
     if (!v) return make_error("stratified: ", v.error().message);
     return std::vector<ShellParams>{{o.box, *v}};
   }
   if (o.viewcell > 0)
     return make_error("--set stratified.viewcell applies to one shell; with shells the viewcells "
-                      "follow from Eq. 4.1");
+                      "follow from alpha and each box");
   auto boxes = box_series(o.spacing, o.box, o.factor, model, o.shells);
   if (!boxes) return make_error("stratified: ", boxes.error().message);
-  auto shells = shell_viewcells(o.alpha_deg, *boxes, model);
-  if (!shells) return make_error("stratified: ", shells.error().message);
   std::vector<ShellParams> out;
-  for (const Shell& s : *shells) out.push_back({s.box, s.viewcell});
+  if (o.paper_sizing) {
+    auto shells = shell_viewcells(o.alpha_deg, *boxes, model);
+    if (!shells) return make_error("stratified: ", shells.error().message);
+    for (const Shell& s : *shells) out.push_back({s.box, s.viewcell});
+    return out;
+  }
+  for (double box : *boxes) {
+    auto v = strict(box);
+    if (!v) return v.error();
+    out.push_back({box, *v});
+  }
   return out;
 }
 
@@ -228,7 +243,7 @@ Result<void> StratifiedTechnique::bake(const Scene& scene, Store& store, Progres
   // error grows with it, so this bounds the error for every far point (the paper's l is the
   // model's length, which a point in the opposite corner exceeds).
   const double model = glm::length(scene.bounds.size());
-  auto shells = plan_shells(options_, model);
+  auto shells = plan_shells(options_, model, double(region->size().y));
   if (!shells) return shells.error();
 
   BakeParams params;

@@ -65,6 +65,10 @@ Result<StratifiedOptions> stratified_options(const std::map<std::string, std::st
       if (!(c[0] < c[2] && c[1] < c[3]))
         return make_error("--set stratified.limit=X0,Z0,X1,Z1 needs X0 < X1 and Z0 < Z1");
       o.limit = Bounds3{{float(c[0]), -1e30f, float(c[1])}, {float(c[2]), 1e30f, float(c[3])}};
+    } else if (key == "sizing") {
+      if (text != "strict" && text != "paper")
+        return make_error("--set stratified.sizing must be strict or paper (got '", text, "')");
+      o.paper_sizing = text == "paper";
     } else if (key == "spacing") {
       if (text != "linear" && text != "exponential")
         return make_error("--set stratified.spacing must be linear or exponential (got '", text,
@@ -128,7 +132,7 @@ Result<StratifiedOptions> stratified_options(const std::map<std::string, std::st
         o.lookahead = *n;
       } else {
         return make_error("--set stratified.", key, ": unknown setting (known: alpha, box, "
-                          "viewcell, resolution, codec, quality, delta, band, path, limit, "
+                          "viewcell, sizing, resolution, codec, quality, delta, band, path, limit, "
                           "shells, spacing, factor, style, blend, lookahead)");
       }
     }

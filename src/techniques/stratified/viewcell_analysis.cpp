@@ -109,6 +109,17 @@ Result<double> viewcell_length(double alpha_max_deg, double box, double model) {
   return v;
 }
 
+Result<double> strict_viewcell_length(double alpha_max_deg, double box, double height) {
+  if (auto ok = check_alpha(alpha_max_deg); !ok) return ok.error();
+  if (auto ok = check_length(box, "--box"); !ok) return ok.error();
+  if (!(height > 0.0)) return make_error("the navigable height must be > 0 m");
+  const double reach = 0.5 * box * std::sin(alpha_max_deg * kDegree);  // the largest D
+  const double cube = 2.0 * reach / std::sqrt(3.0);                      // D = v sqrt3 / 2
+  if (height >= cube) return cube;
+  // One layer of cells `height` tall: D^2 = 2 (v/2)^2 + (height/2)^2.
+  return std::sqrt(2.0 * (reach * reach - 0.25 * height * height));
+}
+
 Result<double> alpha_for_viewcell(double viewcell, double box, double model) {
   if (auto ok = check_nested(viewcell, box, model); !ok) return ok.error();
   // paper 000, Eq. 2.2 as it stands: b < l keeps the two arctangents' sum below 90 degrees.

@@ -28,7 +28,10 @@ struct StratifiedOptions {
   // Bake.
   double alpha_deg = 2.0;    // alpha_max
   double box = 240.0;        // b, metres (the innermost box with shells)
-  double viewcell = 0.0;     // v; 0: from Eq. 2.2 (Eq. 4.1 with shells)
+  double viewcell = 0.0;     // v; 0: from alpha and the box (see `paper_sizing`)
+  // v from paper 000's Eq. 2.2 (Eq. 4.1 with shells) rather than the strict 3D bound
+  // (strict_viewcell_length), which holds for every eye point and far point.
+  bool paper_sizing = false;
   int resolution = 512;      // pixels per box side
   ImageCodec codec = ImageCodec::jpeg(85);
   bool delta = false;        // PNG residuals against a neighbouring viewcell (Sec. 3.1.4)

@@ -22,6 +22,15 @@ namespace farfield::stratified {
 // as the box stays within it. Closed form (a quadratic in v, see the .cpp).
 Result<double> viewcell_length(double alpha_max_deg, double box, double model);
 
+// A viewcell length whose bound holds in 3D for every eye point in the viewcell and every far
+// point at any distance: a far point and its texel are seen at most asin(D / (b/2)) apart, D the
+// distance from the viewcell's centre to its corners (the eye displaced by D from the centre
+// sees the ray through the texel within that angle). Eq. 2.2 takes the worst case in the plane
+// of Fig. 2-4 (s = v/sqrt2, the texel straight ahead); an eye at a corner, looking past the
+// side's middle, errs up to ~15% more (tests/stratified_test.cpp measures it). Viewcells are
+// at most `height` tall (a navigable band thinner than v), which allows longer ones.
+Result<double> strict_viewcell_length(double alpha_max_deg, double box, double height);
+
 // Eq. 2.2 solved for each of the other three from the rest. Each needs 0 < v < b < l.
 Result<double> alpha_for_viewcell(double viewcell, double box, double model);  // alpha_max, deg
 Result<double> box_for_viewcell(double alpha_max_deg, double viewcell, double model);
