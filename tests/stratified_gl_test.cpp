@@ -1,0 +1,202 @@
+// Stratified rendering (paper 000) end to end on a small generated city: bake the viewcells a
+// street path needs, walk the path, compare with brute force; the render styles of Sec. 5.1;
+// a damaged blob found while walking. GL, headless; skipped without a context.
+#include <gtest/gtest.h>
+
+#include <sqlite3.h>
+
+#include "farfield/core/camera_path.hpp"
+#include "farfield/eval/image_metrics.hpp"
+#include "farfield/gpu/context.hpp"
+#include "farfield/gpu/renderer.hpp"
+#include "farfield/scene/city_generator.hpp"
+#include "farfield/scene/path_generator.hpp"
+#include "farfield/store/store.hpp"
+#include "farfield/techniques/technique.hpp"
+#include "test_util.hpp"
+
+namespace farfield {
+namespace {
+
+struct Walk {
+  Scene city;
+  CameraPath path;
+  test::TempDir dir;
+  std::string pack;
+};
+
+// A 3 x 3 block city, a 60-frame street path, and its stratified bake (box 120 m, 128 px).
+std::unique_ptr<Walk> bake_walk(const std::vector<std::string>& extra = {}) {
+  auto walk = std::make_unique<Walk>();
+  CityOptions options;
+  options.blocks_x = options.blocks_z = 3;
+  Progress quiet(true);
+  auto city = generate_city(options, quiet);
+  EXPECT_TRUE(city);
+  walk->city = std::move(*city);
+  PathOptions po;
+  po.frames = 60;
+  auto path = generate_path(walk->city, po);
+  EXPECT_TRUE(path);
+  walk->path = std::move(*path);
+  const std::string path_file = walk->dir.file("street.json");
+  EXPECT_TRUE(write_camera_path(walk->path, path_file));
+  TechniqueSettings settings;
+  for (const std::string& s : std::vector<std::string>{"stratified.box=120", "stratified.resolution=128",
+                               "stratified.path=" + path_file})
+    EXPECT_TRUE(settings.add(s));
+  for (const std::string& s : extra) EXPECT_TRUE(settings.add(s));
+  auto technique = make_technique("stratified", settings);
+  EXPECT_TRUE(technique);
+  walk->pack = walk->dir.file("walk.ffpack");
+  auto store = Store::open(walk->pack, Store::Mode::kReadWrite);
+  EXPECT_TRUE(store);
+  auto baked = (*technique)->bake(walk->city, *store, quiet);
+  EXPECT_TRUE(baked) << baked.error().message;
+  return walk;
+}
+
+double figure(const Technique& t, const std::string& name) {
+  for (const auto& [key, value] : t.figures())
+    if (key == name) return value;
+  ADD_FAILURE() << "no figure " << name;
+  return -1;
+}
+
+TEST(StratifiedGL, WalkMatchesBruteWithinTheBoundAndCrossesViewcells) {
+  if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
+  auto walk = bake_walk();
+  auto context = gpu::create_headless_context();
+  ASSERT_TRUE(context);
+  auto renderer = gpu::Renderer::create(walk->city);
+  ASSERT_TRUE(renderer);
+  auto store = Store::open(walk->pack, Store::Mode::kRead);
+  ASSERT_TRUE(store);
+  auto brute = make_technique("brute");
+  ASSERT_TRUE((*brute)->load(walk->city));
+  auto stratified = make_technique("stratified");
+  ASSERT_TRUE(stratified);
+  ASSERT_TRUE((*stratified)->load_baked(walk->city, *store));
+  EXPECT_FALSE((*stratified)->load(walk->city));  // needs its bake
+
+  DrawList all, list;
+  double psnr_sum = 0;
+  int compared = 0;
+  uint64_t near_triangles = 0;
+  for (size_t f = 0; f < walk->path.frames.size(); ++f) {
+    View view;
+    view.width = 256;
+    view.height = 192;
+    view.pose = walk->path.frames[f];
+    (*renderer)->set_offscreen(view.width, view.height);
+    (*stratified)->select(view, {}, list);
+    ASSERT_FALSE(list.far_quads.empty()) << "frame " << f;
+    near_triangles += list.triangle_count() - 2 * list.far_quads.size();
+    (*renderer)->draw(view, list);
+    if (f % 6 != 0) continue;
+    const Image image = (*renderer)->capture();
+    (*brute)->select(view, {}, all);
+    (*renderer)->draw(view, all);
+    const ImageComparison c = compare_images((*renderer)->capture(), image);
+    psnr_sum += std::min(c.psnr_db, 60.0);
+    ++compared;
+    EXPECT_GT(c.psnr_db, 18.0) << "frame " << f;
+  }
+  EXPECT_GT(psnr_sum / compared, 24.0);
+  EXPECT_EQ((*stratified)->failure(), "");
+  EXPECT_GT(figure(**stratified, "crossings"), 5.0);
+  EXPECT_EQ(figure(**stratified, "frames_in_unbaked_viewcells"), 0.0);
+  // Near geometry is a small part of the city.
+  EXPECT_LT(near_triangles / walk->path.frames.size(), walk->city.triangle_count() / 4);
+}
+
+// paper 000, Sec. 5.1: near only + far texture only = full; far objects and brute draw geometry.
+TEST(StratifiedGL, RenderStylesSplitTheFrame) {
+  if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
+  auto walk = bake_walk();
+  auto context = gpu::create_headless_context();
+  ASSERT_TRUE(context);
+  auto store = Store::open(walk->pack, Store::Mode::kRead);
+  ASSERT_TRUE(store);
+  View view;
+  view.width = 128;
+  view.height = 96;
+  view.pose = walk->path.frames[30];
+  std::map<std::string, DrawList> lists;
+  for (const std::string style : {"full", "near", "far-objects", "far-texture", "brute"}) {
+    TechniqueSettings settings;
+    ASSERT_TRUE(settings.add("stratified.style=" + style));
+    auto t = make_technique("stratified", settings);
+    ASSERT_TRUE(t);
+    ASSERT_TRUE((*t)->load_baked(walk->city, *store));
+    (*t)->select(view, {}, lists[style]);
+  }
+  EXPECT_EQ(lists["near"].opaque.size(), lists["full"].opaque.size());
+  EXPECT_TRUE(lists["near"].far_quads.empty());
+  EXPECT_TRUE(lists["far-texture"].opaque.empty());
+  EXPECT_EQ(lists["far-texture"].far_quads.size(), lists["full"].far_quads.size());
+  EXPECT_GT(lists["far-objects"].triangle_count(), lists["near"].triangle_count());
+  EXPECT_TRUE(lists["far-objects"].far_quads.empty());
+  EXPECT_EQ(lists["brute"].triangle_count(), walk->city.triangle_count());
+}
+
+TEST(StratifiedGL, DeltaCodedPngBakeDrawsTheSameAsPlainPng) {
+  if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
+  auto plain = bake_walk({"stratified.codec=png"});
+  auto delta = bake_walk({"stratified.codec=png", "stratified.delta=1"});
+  auto a = Store::open(plain->pack, Store::Mode::kRead);
+  auto b = Store::open(delta->pack, Store::Mode::kRead);
+  ASSERT_TRUE(a && b);
+  auto ta = make_technique("stratified"), tb = make_technique("stratified");
+  ASSERT_TRUE((*ta)->load_baked(plain->city, *a));
+  ASSERT_TRUE((*tb)->load_baked(delta->city, *b));
+  DrawList la, lb;
+  for (size_t f = 0; f < plain->path.frames.size(); f += 7) {
+    View view;
+    view.pose = plain->path.frames[f];
+    (*ta)->select(view, {}, la);
+    (*tb)->select(view, {}, lb);
+    ASSERT_EQ(la.uploads.size(), lb.uploads.size());
+    for (size_t i = 0; i < la.uploads.size(); ++i) {
+      const TextureUpload &x = la.uploads[i], &y = lb.uploads[i];
+      ASSERT_EQ(x.width * x.height * x.channels, y.width * y.height * y.channels);
+      EXPECT_EQ(0, std::memcmp(x.pixels, y.pixels, size_t(x.width * x.height * x.channels)));
+    }
+  }
+  auto bytes_a = a->total_bytes("stratified/"), bytes_b = b->total_bytes("stratified/");
+  std::printf("png %llu bytes, png with delta coding %llu bytes\n",
+              (unsigned long long)*bytes_a, (unsigned long long)*bytes_b);
+  EXPECT_LT(*bytes_b, *bytes_a);
+}
+
+TEST(StratifiedGL, DamagedBlobIsNamedWhileWalking) {
+  if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
+  auto walk = bake_walk();
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(walk->pack.c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db,
+                           "UPDATE blobs SET data = zeroblob(length(data)) "
+                           "WHERE name LIKE 'stratified/s0/%/face0'",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(db);
+  }
+  auto store = Store::open(walk->pack, Store::Mode::kRead);
+  ASSERT_TRUE(store);
+  auto t = make_technique("stratified");
+  ASSERT_TRUE((*t)->load_baked(walk->city, *store));
+  View view;
+  view.pose = walk->path.frames[0];
+  DrawList list;
+  (*t)->select(view, {}, list);
+  const std::string failure = (*t)->failure();
+  EXPECT_NE(failure.find(walk->pack), std::string::npos) << failure;
+  EXPECT_NE(failure.find("/face0' is corrupted"), std::string::npos) << failure;
+  // The frame is still drawn, with every visible object instead of the far field.
+  EXPECT_TRUE(list.far_quads.empty());
+  EXPECT_GT(list.triangle_count(), 0u);
+}
+
+}  // namespace
+}  // namespace farfield
