@@ -17,6 +17,7 @@
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/gpu/window.hpp"
 #include "farfield/scene/scene_file.hpp"
+#include "farfield/eval/birdseye.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/technique.hpp"
 
@@ -29,7 +30,10 @@ struct ViewSettings {
   std::vector<std::string> settings;
   int width = 1024, height = 768, frames = 0;
   float hfov_deg = 90.0f;
+  float birdseye_height = 0.0f;  // > 0: start in the bird's-eye view
 };
+
+constexpr float kDefaultBirdseyeHeight = 300.0f;
 
 NavigationInput keys_to_input(const gpu::Window& w) {
   auto axis = [&](int plus_a, int plus_b, int minus_a, int minus_b) {
@@ -95,6 +99,8 @@ int run_viewer(const ViewSettings& s) {
   auto renderer = gpu::Renderer::create(*scene);
   if (!renderer) return fail(renderer.error().message);
   size_t shown = infos.size();  // the technique whose proxies are uploaded
+  // A technique that cannot load (stratified without its bake) stays unavailable, with why.
+  std::vector<std::string> unavailable(infos.size());
   auto show = [&](size_t t) -> Result<void> {
     if (!loaded[t]) {
       if (auto ok = store ? techniques[t]->load_baked(*scene, *store) : techniques[t]->load(*scene); !ok)
@@ -119,7 +125,10 @@ int run_viewer(const ViewSettings& s) {
   bool playing = !path.frames.empty();
   size_t path_frame = 0;
   int frame = 0;
-  bool tab_was_down = false, p_was_down = false;
+  bool tab_was_down = false, p_was_down = false, b_was_down = false;
+  bool birdseye = s.birdseye_height > 0;
+  const float birdseye_height = birdseye ? s.birdseye_height : kDefaultBirdseyeHeight;
+  std::string notice;
   double smoothed_ms = 0.0;
   DrawList list;
   gpu::FrameStats stats;
@@ -133,11 +142,15 @@ int run_viewer(const ViewSettings& s) {
     gpu::Window& w = **window;
     if (w.key_down(GLFW_KEY_ESCAPE)) w.close();
     const bool typing = ImGui::GetIO().WantCaptureKeyboard;
-    const bool tab = w.key_down(GLFW_KEY_TAB), p = w.key_down(GLFW_KEY_P);
+    const bool tab = w.key_down(GLFW_KEY_TAB), p = w.key_down(GLFW_KEY_P),
+               b = w.key_down(GLFW_KEY_B);
+    const size_t before = current;
     if (tab && !tab_was_down && !typing) current = (current + 1) % techniques.size();
     if (p && !p_was_down && !typing && !path.frames.empty()) playing = !playing;
+    if (b && !b_was_down && !typing) birdseye = !birdseye;
     tab_was_down = tab;
     p_was_down = p;
+    b_was_down = b;
     for (int k = 0; k < 9 && !typing; ++k)
       if (w.key_down(GLFW_KEY_1 + k) && size_t(k) < techniques.size()) current = size_t(k);
 
@@ -154,13 +167,31 @@ int run_viewer(const ViewSettings& s) {
     w.framebuffer_size(view.width, view.height);
     view.hfov_deg = s.hfov_deg;
     const auto start = std::chrono::steady_clock::now();
+    if (!unavailable[current].empty()) current = before;
     if (auto ok = show(current); !ok) {
-      exit_status = fail(ok.error().message);
-      break;
+      if (current == before) {  // the technique asked for at start
+        exit_status = fail(ok.error().message);
+        break;
+      }
+      unavailable[current] = ok.error().message;
+      notice = std::string(techniques[current]->name()) + ": " + ok.error().message;
+      current = before;
+      continue;
     }
     techniques[current]->select(view, FrameBudget{}, list);
-    stats = (*renderer)->draw(view, list);
+    if (birdseye) {
+      // paper 000, Fig. 5-2: the same selection from above, frustum in red.
+      techniques[current]->annotate(view, list);
+      add_frustum_lines(view, birdseye_height * 0.5f, list);
+      stats = (*renderer)->draw(birdseye_view(view, birdseye_height), list);
+    } else {
+      stats = (*renderer)->draw(view, list);
+    }
     glFinish();
+    if (std::string failure = techniques[current]->failure(); !failure.empty()) {
+      exit_status = fail(failure);
+      break;
+    }
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     smoothed_ms = frame == 0 ? ms : 0.9 * smoothed_ms + 0.1 * ms;
@@ -189,7 +220,9 @@ int run_viewer(const ViewSettings& s) {
     if (!path.frames.empty())
       ImGui::Text("path %s: frame %zu of %zu (P: %s)", path.kind.c_str(), path_frame,
                   path.frames.size(), playing ? "pause" : "play");
-    ImGui::TextDisabled("W/S move  A/D turn  E/Q up/down  R/F look  Shift fast  Tab/1-9 technique");
+    if (!notice.empty()) ImGui::TextWrapped("%s", notice.c_str());
+    ImGui::TextDisabled("W/S move  A/D turn  E/Q up/down  R/F look  Shift fast  Tab/1-9 technique"
+                        "  B bird's-eye%s", birdseye ? " (on)" : "");
     ImGui::End();
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -226,7 +259,7 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
   CLI::App* cmd = root.add_subcommand(
       "view", "Walk through a scene in a window. Keys: W/S or arrows forward/back, A/D turn, "
               "E/Q or PageUp/PageDown ascend/descend, R/F look up/down, Shift faster, Tab or 1-9 "
-              "switch technique, P play/pause the path, Esc quit");
+              "switch technique, B bird's-eye view, P play/pause the path, Esc quit");
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
   cmd->add_option("--path", s->path, "Camera path to play (P pauses and resumes)");
   cmd->add_option("--store", s->store, "A .ffpack from 'farfield bake' to load techniques from");
@@ -244,6 +277,10 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--screenshot", s->screenshot,
                   "Save the window (with its overlay) as PNG after --frames frames, then quit");
+  cmd->add_option("--birdseye", s->birdseye_height,
+                  "Start in the bird's-eye view from this many metres above the eye (B toggles; "
+                  "300 m when not given)")
+      ->check(CLI::Range(0.0f, 100000.0f));
   cmd->add_option("--record", s->record, "Write the poses of the session as a camera path on exit");
   commands.push_back({cmd, [s] { return run_viewer(*s); }});
 }

@@ -383,6 +383,14 @@ Result<void> StratifiedTechnique::bake(const Scene& scene, Store& store, Progres
   std::fprintf(stderr, "stratified: baked %llu viewcells (v %.2f m, box %.0f m) in %.1f s\n",
                (unsigned long long)writer.written(), params.shells[0].viewcell,
                params.shells[0].box, bake_s_);
+  char summary[200];
+  std::snprintf(summary, sizeof summary,
+                "%llu viewcells baked now, %llu in the pack; v %.2f m, box %.0f m, alpha %.2f deg, "
+                "%d px %s, %zu shell(s)",
+                (unsigned long long)writer.written(), (unsigned long long)(already + writer.written()),
+                params.shells[0].viewcell, params.shells[0].box, params.alpha_deg,
+                params.resolution, codec_name(params.codec.codec), params.shells.size());
+  bake_summary_ = summary;
   return {};
 }
 

@@ -238,7 +238,7 @@ void StratifiedTechnique::annotate(const View&, DrawList& list) const {
 std::string StratifiedTechnique::failure() const { return loader_ ? loader_->error() : ""; }
 
 std::string StratifiedTechnique::describe() const {
-  if (shells_.empty()) return {};
+  if (shells_.empty()) return bake_summary_;
   char text[256];
   std::snprintf(text, sizeof text,
                 "%zu of %llu viewcells baked, v %.2f m, box %.0f m, alpha %.2f deg, %d px %s, "

@@ -71,6 +71,7 @@ class StratifiedTechnique final : public Technique {
   // Figures.
   uint64_t crossings_ = 0, stalls_ = 0, unbaked_frames_ = 0, outside_frames_ = 0;
   double bake_s_ = 0.0;
+  std::string bake_summary_;  // describe() after a bake
 };
 
 }  // namespace farfield
