@@ -44,9 +44,21 @@ void add_bake_command(CLI::App& root, std::vector<Command>& commands) {
                           Progress progress(s->quiet);
                           auto ok = (*technique)->bake(*scene, *store, progress);
                           progress.finish();
-                          if (!ok) bake_error = ok.error().message;
-                          else if (auto total = store->total_bytes(s->technique + "/"); total)
+                          const double seconds = std::chrono::duration<double>(
+                                                     std::chrono::steady_clock::now() - start)
+                                                     .count();
+                          if (!ok) {
+                            bake_error = ok.error().message;
+                          } else if (auto total = store->total_bytes(s->technique + "/"); !total) {
+                            bake_error = total.error().message;
+                          } else {
                             bytes = *total;
+                            // bench reports it beside the technique's frames
+                            if (auto m = store->set_meta(s->technique + "/bake_s",
+                                                         std::to_string(seconds));
+                                !m)
+                              bake_error = m.error().message;
+                          }
                         }  // the pack is closed here
                         if (!bake_error.empty()) {
                           // A pack this command created and could not fill is not left behind;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -118,6 +119,14 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
       if (auto ok = store ? technique->load_baked(scene, *store) : technique->load(scene); !ok)
         return ok.error();
       record.load_s = ms_since(start) / 1000.0;
+      if (store) {
+        auto bytes = store->total_bytes(name + "/");
+        if (!bytes) return bytes.error();
+        record.store_bytes = *bytes;
+        auto bake_s = store->get_meta(name + "/bake_s");
+        if (!bake_s) return bake_s.error();
+        if (*bake_s) record.bake_s = std::strtod((*bake_s)->c_str(), nullptr);
+      }
       record.description = technique->describe();
       const ProxyMesh* proxies = technique->proxies();
       if (auto ok = (*renderer)->set_proxies(proxies ? *proxies : ProxyMesh{}); !ok)

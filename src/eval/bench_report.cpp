@@ -64,9 +64,9 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options,
                     {"compared_frames", s.compared_frames},
                     {"identical_frames", s.identical_frames},
                     {"peak_rss_mb", t.peak_rss_mb},
-                    {"bake_s", 0.0},
+                    {"bake_s", t.bake_s},
                     {"load_s", t.load_s},
-                    {"store_bytes", 0}};
+                    {"store_bytes", t.store_bytes}};
     // Triangles drawn from the technique's proxy mesh (colorcube: cube faces, two triangles
     // each, and the leaves' own triangles).
     uint64_t proxy_triangles = 0;

@@ -48,6 +48,8 @@ struct TechniqueRecord {
   std::string name, description;
   std::vector<std::pair<std::string, double>> figures;  // Technique::figures()
   double load_s = 0;
+  double bake_s = 0;         // the last `farfield bake` run into the pack (its meta NAME/bake_s)
+  uint64_t store_bytes = 0;  // the technique's blobs in the pack (NAME/...)
   double peak_rss_mb = 0;
   std::vector<FrameRecord> frames;
 };

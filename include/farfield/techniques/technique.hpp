@@ -36,7 +36,7 @@ class Technique {
   virtual Result<void> bake(const Scene& scene, Store& store, Progress& progress);
   // Loads what bake() wrote for this scene; techniques without a bake simply load().
   virtual Result<void> load_baked(const Scene& scene, const Store& store);
-  // Every frame; `out` is cleared first and its capacity reused.
+  // Every frame; clears all of `out` first (DrawList::clear keeps its capacity).
   virtual void select(const View& view, const FrameBudget& budget, DrawList& out) = 0;
   // One line on what load built (nodes, depth, ...), for reports.
   virtual std::string describe() const { return {}; }

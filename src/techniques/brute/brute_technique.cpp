@@ -13,6 +13,7 @@ Result<void> BruteTechnique::load(const Scene& scene) {
 }
 
 void BruteTechnique::select(const View&, const FrameBudget&, DrawList& out) {
+  out.clear();  // everything, bird's-eye lines of a previous frame included
   out.opaque.assign(everything_.opaque.begin(), everything_.opaque.end());
   out.transparent.assign(everything_.transparent.begin(), everything_.transparent.end());
 }
