@@ -5,6 +5,8 @@
 
 #include <sqlite3.h>
 
+#include <set>
+
 #include "farfield/core/camera_path.hpp"
 #include "farfield/eval/image_metrics.hpp"
 #include "farfield/gpu/context.hpp"
@@ -138,6 +140,50 @@ TEST(StratifiedGL, RenderStylesSplitTheFrame) {
   EXPECT_GT(lists["far-objects"].triangle_count(), lists["near"].triangle_count());
   EXPECT_TRUE(lists["far-objects"].far_quads.empty());
   EXPECT_EQ(lists["brute"].triangle_count(), walk->city.triangle_count());
+}
+
+// paper 000, Ch. 4: two shells; the inner far field carries coverage and is drawn over the
+// outer one, the frame stays close to brute force.
+TEST(StratifiedGL, TwoShellsNestTheirFarFields) {
+  if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
+  auto walk = bake_walk({"stratified.shells=2", "stratified.spacing=linear",
+                         "stratified.factor=1.5"});
+  auto context = gpu::create_headless_context();
+  ASSERT_TRUE(context);
+  auto renderer = gpu::Renderer::create(walk->city);
+  ASSERT_TRUE(renderer);
+  auto store = Store::open(walk->pack, Store::Mode::kRead);
+  ASSERT_TRUE(store);
+  auto t = make_technique("stratified");
+  ASSERT_TRUE((*t)->load_baked(walk->city, *store));
+  EXPECT_DOUBLE_EQ(figure(**t, "shell1_box_m"), 180.0);
+  EXPECT_GT(figure(**t, "shell1_viewcell_m"), figure(**t, "shell0_viewcell_m"));
+  auto brute = make_technique("brute");
+  ASSERT_TRUE((*brute)->load(walk->city));
+  DrawList list, all;
+  double psnr_sum = 0;
+  int compared = 0;
+  for (size_t f = 0; f < walk->path.frames.size(); f += 10) {
+    View view;
+    view.width = 256;
+    view.height = 192;
+    view.pose = walk->path.frames[f];
+    (*renderer)->set_offscreen(view.width, view.height);
+    (*t)->select(view, {}, list);
+    // Slots come in sets of six sides, one set per viewcell: two viewcells, the outer first.
+    std::set<uint32_t> sets;
+    for (const TexturedQuad& q : list.far_quads) sets.insert(q.slot / 6);
+    EXPECT_EQ(sets.size(), 2u) << "frame " << f;
+    for (const TextureUpload& u : list.uploads) EXPECT_TRUE(u.channels == 3 || u.channels == 4);
+    (*renderer)->draw(view, list);
+    const Image image = (*renderer)->capture();
+    (*brute)->select(view, {}, all);
+    (*renderer)->draw(view, all);
+    psnr_sum += compare_images((*renderer)->capture(), image).psnr_db;
+    ++compared;
+  }
+  EXPECT_GT(psnr_sum / compared, 22.0);
+  EXPECT_EQ((*t)->failure(), "");
 }
 
 TEST(StratifiedGL, DeltaCodedPngBakeDrawsTheSameAsPlainPng) {
