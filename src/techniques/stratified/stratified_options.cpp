@@ -49,7 +49,9 @@ Result<StratifiedOptions> stratified_options(const std::map<std::string, std::st
   StratifiedOptions o;
   int quality = 85;
   std::string codec = "jpeg";
-  for (const auto& [key, text] : settings) {
+  for (const auto& setting : settings) {
+    const std::string& key = setting.first;  // named, not bound: lambdas below capture them
+    const std::string& text = setting.second;
     if (key == "codec") {
       if (text != "jpeg" && text != "png")
         return make_error("--set stratified.codec must be jpeg or png (got '", text, "')");
