@@ -19,9 +19,13 @@ void add_bake_command(CLI::App& root, std::vector<Command>& commands) {
   auto s = std::make_shared<Settings>();
   CLI::App* cmd = root.add_subcommand(
       "bake", "Preprocess a scene for a technique into a .ffpack store (SQLite, checksummed); "
-              "bench and view load it with --store");
+              "bench and view load it with --store. A stratified bake commits each viewcell as it "
+              "goes: run it again after an interruption and it continues. Settings: --set "
+              "stratified.path=PATH.json (only the viewcells a path needs), stratified.alpha, "
+              "box, resolution, codec, ... (docs/techniques/stratified.md)");
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
-  cmd->add_option("--technique,-t", s->technique, "The technique to bake (colorcube)")->required();
+  cmd->add_option("--technique,-t", s->technique, "The technique to bake: colorcube or stratified")
+      ->required();
   cmd->add_option("--set", s->settings, "Technique setting NAME.KEY=VALUE, repeatable");
   cmd->add_option("--out,-o", s->out, "The .ffpack to write (created, or its bake replaced)")
       ->required();
