@@ -158,6 +158,7 @@ struct Renderer::State {
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
     glEnable(GL_DEPTH_TEST);
+    glDepthRangef(0.0f, 1.0f);
     glDepthFunc(GL_GREATER);
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
@@ -211,7 +212,9 @@ struct Renderer::State {
                         u.channels == 4 ? GL_RGBA : GL_RGB, GL_UNSIGNED_BYTE, u.pixels);
   }
 
-  // The far-field quads: a blended backdrop without depth, or (in_world) depth-tested,
+  // The far-field quads, after the opaque geometry: a blended backdrop that fills only the
+  // pixels no geometry covers (every fragment at the far depth 0, tested GEQUAL, not written:
+  // early depth rejection skips the texturing of covered pixels), or (in_world) depth-tested,
   // depth-writing and two-sided at their place.
   void draw_quads(const glm::mat4& view_projection, const DrawList& list) {
     if (list.far_quads.empty()) return;
@@ -246,7 +249,8 @@ struct Renderer::State {
     glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     if (!list.quads_in_world) {
-      glDisable(GL_DEPTH_TEST);
+      glDepthRangef(0.0f, 0.0f);  // reversed-Z: 0 is infinitely far, where the sky was cleared
+      glDepthFunc(GL_GEQUAL);
       glDepthMask(GL_FALSE);
     }
     for (size_t i = 0; i < list.far_quads.size(); ++i) {
@@ -254,7 +258,8 @@ struct Renderer::State {
       glProgramUniform1f(quad_program, kOpacityUniform, list.far_quads[i].opacity);
       glDrawArrays(GL_TRIANGLE_FAN, GLint(4 * i), 4);
     }
-    glEnable(GL_DEPTH_TEST);
+    glDepthRangef(0.0f, 1.0f);
+    glDepthFunc(GL_GREATER);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
     glEnable(GL_CULL_FACE);
@@ -404,11 +409,9 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
                          s.commands.data());
 
   s.begin_frame(view_projection, width, height);
-  if (!list.quads_in_world) s.draw_quads(view_projection, list);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, s.indirect_buffer);
   if (opaque > 0)
     glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(opaque), 0);
-  if (list.quads_in_world) s.draw_quads(view_projection, list);
   if (!list.proxies.empty()) {
     // Proxies depth-test and write like opaque geometry; alpha below one blends (coverage
     // drawn as transparency). Their commands follow the scene's in the indirect buffer.
@@ -429,6 +432,8 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
     glUseProgram(s.program);
     glDisable(GL_BLEND);
   }
+  // Far-field quads behind everything opaque, under the transparent surfaces.
+  s.draw_quads(view_projection, list);
   if (total > opaque) {
     // Semi-transparent surfaces after the opaque ones, in the list's order, both sides,
     // tested against but not writing depth.

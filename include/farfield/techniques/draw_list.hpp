@@ -1,8 +1,8 @@
 // DrawList: what a technique selected for one frame, as plain data (DESIGN.md). The renderer
-// makes the `uploads` first, draws `far_quads` behind everything, then `opaque`, `proxies`,
-// `transparent` with blending, and `lines` over the top, each in the order given. Scene ranges
-// are of the scene's index array; proxy ranges of the technique's ProxyMesh. Capacity is kept
-// between frames: clear() does not free.
+// makes the `uploads` first, draws `opaque`, `proxies`, then `far_quads` behind everything
+// drawn so far, `transparent` with blending, and `lines` over the top, each in the order
+// given. Scene ranges are of the scene's index array; proxy ranges of the technique's
+// ProxyMesh. Capacity is kept between frames: clear() does not free.
 #pragma once
 
 #include <array>
@@ -64,8 +64,8 @@ struct DrawList {
   std::vector<DrawRange> transparent;
   std::vector<DrawRange> proxies;  // of the technique's ProxyMesh; `material` unused
   std::vector<TextureUpload> uploads;
-  // Far-field quads. Normally a backdrop: drawn first, in order, without depth, so that all
-  // geometry lands in front of them (a near object that crosses the box is not cut by it).
+  // Far-field quads. Normally a backdrop, in order, filling only what no geometry covers, so
+  // that all geometry lands in front of them (a near object that crosses the box is not cut).
   // With `quads_in_world` (bird's-eye views) they are drawn at their place, both sides.
   std::vector<TexturedQuad> far_quads;
   bool quads_in_world = false;
