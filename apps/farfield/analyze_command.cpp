@@ -123,6 +123,15 @@ int run_single(const Settings& s, const std::optional<ThroughputBox>& from_throu
               from_throughput ? "  (from the throughput)" : "");
   std::printf("  model length         l = %.2f m%s\n", values[kModel], mark(kModel));
   std::printf("  viewcell length      v = %.2f m%s\n", values[kViewcell], mark(kViewcell));
+  if (unknown == kViewcell) {
+    // What `farfield bake --technique stratified` uses by default (stratified.sizing=strict).
+    auto cube = strict_viewcell_length(values[kAlpha], values[kBox], values[kBox]);
+    auto band = strict_viewcell_length(values[kAlpha], values[kBox], 3.0);
+    if (cube && band)
+      std::printf("strict 3D bound (the stratified bake's default): v = %.2f m, or %.2f m for "
+                  "a 3 m street band\n",
+                  *cube, *band);
+  }
   if (region) print_count(values[kViewcell], *region);
   return 0;
 }
