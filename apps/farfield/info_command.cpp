@@ -7,6 +7,7 @@
 #include "farfield/scene/scene_file.hpp"
 #include "farfield/scene/scene_summary.hpp"
 #include "farfield/store/store.hpp"
+#include "farfield/techniques/stratified/stratified_pack.hpp"
 
 namespace farfield::cli {
 
@@ -32,6 +33,20 @@ int describe_pack(const std::string& path) {
     std::printf("baked:       %-12s %8llu blobs %14llu bytes\n", name.c_str(),
                 (unsigned long long)t.first, (unsigned long long)t.second);
   for (const auto& [key, value] : *meta) std::printf("%-24s %s\n", (key + ":").c_str(), value.c_str());
+  if (techniques.count("stratified")) {
+    auto text = store->get_meta(stratified::kParamsKey);
+    if (!text) return fail(text.error().message);
+    if (*text) {
+      auto params = stratified::parse_params(**text);
+      if (!params) return fail(path + ": " + params.error().message);
+      for (size_t s = 0; s < params->shells.size(); ++s) {
+        auto cells = stratified::baked_cells(*store, int(s));
+        if (!cells) return fail(cells.error().message);
+        std::printf("stratified shell %zu:      %zu viewcells baked, v %.2f m, box %.1f m\n", s,
+                    cells->size(), params->shells[s].viewcell, params->shells[s].box);
+      }
+    }
+  }
   return 0;
 }
 
