@@ -4,13 +4,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <cstdio>
-#include <deque>
-#include <map>
-#include <mutex>
 #include <set>
-#include <thread>
 
 #include <glm/geometric.hpp>
 
@@ -20,6 +15,7 @@
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/object_set.hpp"
 #include "farfield/techniques/stratified/box_faces.hpp"
+#include "cell_writer.hpp"
 #include "stratified_technique.hpp"
 
 namespace farfield {
@@ -118,120 +114,6 @@ Result<std::vector<std::optional<std::vector<CellKey>>>> wanted_cells(
   return wanted;
 }
 
-// The writer thread's work: one viewcell at a time, in order.
-struct CellJob {
-  int shell;
-  CellKey key;
-  CellRecord record;
-};
-
-class CellWriter {
- public:
-  CellWriter(Store& store, const BakeParams& params, uint32_t object_count)
-      : store_(store), params_(params), object_count_(object_count),
-        thread_([this] { run(); }) {}
-  ~CellWriter() { finish(); }
-
-  // Waits while two viewcells are already queued (memory stays bounded).
-  void push(CellJob job) {
-    std::unique_lock lock(mutex_);
-    space_.wait(lock, [&] { return queue_.size() < 2 || !error_.empty(); });
-    queue_.push_back(std::move(job));
-    work_.notify_one();
-  }
-  void finish() {
-    {
-      std::lock_guard lock(mutex_);
-      done_ = true;
-    }
-    work_.notify_one();
-    if (thread_.joinable()) thread_.join();
-  }
-  std::string error() {
-    std::lock_guard lock(mutex_);
-    return error_;
-  }
-  uint64_t written() {
-    std::lock_guard lock(mutex_);
-    return written_;
-  }
-
- private:
-  void run() {
-    for (;;) {
-      CellJob job;
-      {
-        std::unique_lock lock(mutex_);
-        work_.wait(lock, [&] { return done_ || !queue_.empty(); });
-        if (queue_.empty() || !error_.empty()) return;
-        job = std::move(queue_.front());
-        queue_.pop_front();
-      }
-      space_.notify_one();
-      auto ok = write(job);
-      std::lock_guard lock(mutex_);
-      if (!ok) {
-        error_ = ok.error().message;
-        space_.notify_all();
-        return;
-      }
-      ++written_;
-    }
-  }
-
-  // Delta coding (Sec. 3.1.4) groups 2 x 2 x 2 neighbouring viewcells: the first one baked is
-  // stored whole and the others as differences to it.
-  Result<void> write(const CellJob& job) {
-    if (!params_.delta)
-      return write_cell(store_, job.shell, job.key, job.record, params_, nullptr, std::nullopt);
-    const CellKey group{{job.key.at[0] & ~1u, job.key.at[1] & ~1u, job.key.at[2] & ~1u}};
-    const auto id = std::pair{job.shell, group.packed()};
-    auto it = references_.find(id);
-    if (it == references_.end()) {
-      // A resumed bake may already hold the group's reference.
-      std::optional<std::pair<CellKey, CellRecord>> found;
-      for (uint32_t i = 0; i < 8 && !found; ++i) {
-        const CellKey k{{group.at[0] + (i & 1), group.at[1] + (i >> 1 & 1), group.at[2] + (i >> 2)}};
-        auto has = store_.contains(cell_prefix(job.shell, k) + "done");
-        if (!has) return has.error();
-        if (!*has) continue;
-        auto r = read_cell(store_, job.shell, k, params_, object_count_);
-        if (!r) return r.error();
-        if (!r->reference) found.emplace(k, std::move(*r));
-      }
-      if (!found) {
-        if (auto ok = write_cell(store_, job.shell, job.key, job.record, params_, nullptr,
-                                 std::nullopt);
-            !ok)
-          return ok;
-        remember(id, job.key, job.record);
-        return {};
-      }
-      it = remember(id, found->first, found->second);
-    }
-    return write_cell(store_, job.shell, job.key, job.record, params_, &it->second.second,
-                      it->second.first);
-  }
-
-  using References = std::map<std::pair<int, uint64_t>, std::pair<CellKey, CellRecord>>;
-  References::iterator remember(const std::pair<int, uint64_t>& id, const CellKey& key,
-                                const CellRecord& record) {
-    if (references_.size() >= 16) references_.clear();  // kd order keeps groups together
-    return references_.insert_or_assign(id, std::pair{key, record}).first;
-  }
-
-  Store& store_;
-  const BakeParams& params_;
-  uint32_t object_count_;
-  References references_;
-  std::mutex mutex_;
-  std::condition_variable work_, space_;
-  std::deque<CellJob> queue_;
-  std::string error_;
-  uint64_t written_ = 0;
-  bool done_ = false;
-  std::thread thread_;
-};
 
 }  // namespace
 
