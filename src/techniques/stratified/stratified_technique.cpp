@@ -61,6 +61,7 @@ Result<void> StratifiedTechnique::load_baked(const Scene& scene, const Store& st
   loader_ = std::move(*loader);
   selected_ = std::make_unique<ObjectSet>(scene);
   resident_.clear();
+  uploading_.clear();
   current_.assign(shells_.size(), std::nullopt);
   previous_.reset();
   last_position_.reset();
@@ -81,14 +82,17 @@ int StratifiedTechnique::make_resident(const CellId& id,
       resident_[i].last_used = frame_;
       return int(i);
     }
+  uint8_t faces = 0;
+  for (int f = 0; f < kFaces; ++f)
+    if (record->faces[size_t(f)].channels != 0) faces |= uint8_t(1u << f);
   size_t set = resident_.size();
   if (set < kSlotSets) {
-    resident_.push_back({id, record, frame_});
+    resident_.push_back({id, faces, frame_});
   } else {
     set = 0;  // the least recently used; never one of this frame's
     for (size_t i = 1; i < resident_.size(); ++i)
       if (resident_[i].last_used < resident_[set].last_used) set = i;
-    resident_[set] = {id, record, frame_};
+    resident_[set] = {id, faces, frame_};
   }
   // paper 000, Sec. 3.2: on a crossing the new viewcell's textures replace the old ones.
   for (int f = 0; f < kFaces; ++f) {
@@ -97,6 +101,7 @@ int StratifiedTechnique::make_resident(const CellId& id,
     out.uploads.push_back({uint32_t(set * kFaces + size_t(f)), face.width, face.height,
                            face.channels, face.pixels.data()});
   }
+  uploading_.push_back(record);
   return int(set);
 }
 
@@ -104,9 +109,9 @@ void StratifiedTechnique::add_box(int shell, const CellKey& key, int set, float 
                                   DrawList& out) const {
   const ViewcellTree& tree = shells_[size_t(shell)].tree;
   const glm::vec3 centre = tree.centre(key);
-  const CellRecord& record = *resident_[size_t(set)].record;
+  const uint8_t faces = resident_[size_t(set)].faces;
   for (int f = 0; f < kFaces; ++f)
-    if (record.faces[size_t(f)].channels != 0)
+    if (faces >> f & 1)
       out.far_quads.push_back({face_corners(centre, float(tree.box()), f),
                                uint32_t(size_t(set) * kFaces + size_t(f)), opacity});
 }
@@ -132,6 +137,7 @@ void StratifiedTechnique::prefetch_ahead(const glm::vec3& position) {
 
 void StratifiedTechnique::select(const View& view, const FrameBudget&, DrawList& out) {
   out.clear();
+  uploading_.clear();  // the renderer has drawn the last frame: its uploads are done
   ++frame_;
   const glm::vec3 p = view.pose.position;
   if (last_position_) velocity_ = p - *last_position_;

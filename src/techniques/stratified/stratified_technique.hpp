@@ -43,7 +43,7 @@ class StratifiedTechnique final : public Technique {
   // A viewcell's sides in renderer texture slots.
   struct Resident {
     stratified::CellId id;
-    std::shared_ptr<const stratified::CellRecord> record;
+    uint8_t faces = 0;  // bit F: side F has an image
     uint64_t last_used = 0;
   };
   bool baked(int shell, const stratified::CellKey& key) const;
@@ -61,6 +61,8 @@ class StratifiedTechnique final : public Technique {
   std::unique_ptr<stratified::CellLoader> loader_;
   std::unique_ptr<ObjectSet> selected_;
   std::vector<Resident> resident_;  // slot set i: slots 6i .. 6i+5
+  // The viewcells this frame's uploads point into: kept until the next select().
+  std::vector<std::shared_ptr<const stratified::CellRecord>> uploading_;
   uint64_t frame_ = 0;
   std::optional<glm::vec3> last_position_;
   glm::vec3 velocity_{0.0f};  // metres per frame
