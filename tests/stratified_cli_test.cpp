@@ -96,6 +96,30 @@ TEST(StratifiedCli, KilledBakeResumesWithoutRedoingViewcells) {
   EXPECT_EQ(baked_count(pack), total);
 }
 
+// Limits that select nothing, paths that cannot be read or never enter the region, absurd
+// settings: exit 1, a message naming the setting or file, and no pack left behind.
+TEST(StratifiedCli, BakeRefusesLimitsThatSelectNothing) {
+  test::TempDir dir;
+  const std::string cwd = dir.path().string();
+  ASSERT_EQ(run_farfield("generate city -q --blocks 1 --out city.ffscene", cwd).exit_status, 0);
+  ASSERT_EQ(run_farfield("path city.ffscene --kind street --frames 10 --out street.json", cwd)
+                .exit_status,
+            0);
+  for (const auto& [setting, words] : std::vector<std::pair<std::string, std::string>>{
+           {"stratified.limit=5000,5000,6000,6000", "meets no viewcell"},
+           {"stratified.path=missing.json", "missing.json"},
+           {"stratified.band=100,103 --set stratified.path=street.json", "never enters"},
+           {"stratified.resolution=100000", "stratified.resolution"},
+           {"stratified.sizing=loose", "strict or paper"},
+       }) {
+    auto r = run_farfield("bake city.ffscene -t stratified -q --set " + setting + " --out p.ffpack",
+                          cwd);
+    EXPECT_EQ(r.exit_status, 1) << setting;
+    EXPECT_NE(r.output.find(words), std::string::npos) << setting << ": " << r.output;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("p.ffpack"))) << setting;
+  }
+}
+
 TEST(StratifiedCli, BenchStopsOnADamagedBlobAndNamesIt) {
   if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
   test::TempDir dir;

@@ -107,7 +107,16 @@ Result<std::vector<std::optional<std::vector<CellKey>>>> wanted_cells(
       Bounds3 limit = *o.limit;
       limit.min.y = tree.region().min.y;
       limit.max.y = tree.region().max.y;
-      for (const CellKey& k : tree.cells_meeting(limit)) cells.insert(k);
+      const std::vector<CellKey> meeting = tree.cells_meeting(limit);
+      if (meeting.empty() && s == 0) {
+        const Bounds3& r = tree.region();
+        char extent[160];
+        std::snprintf(extent, sizeof extent, "x %.1f to %.1f, z %.1f to %.1f", r.min.x, r.max.x,
+                      r.min.z, r.max.z);
+        return make_error("--set stratified.limit: the rectangle meets no viewcell of the "
+                          "navigable region (", extent, ")");
+      }
+      cells.insert(meeting.begin(), meeting.end());
     }
     wanted[s] = std::vector<CellKey>(cells.begin(), cells.end());
   }
