@@ -5,6 +5,7 @@
 
 #include <sqlite3.h>
 
+#include <optional>
 #include <set>
 
 #include "farfield/core/camera_path.hpp"
@@ -58,6 +59,23 @@ std::unique_ptr<Walk> bake_walk(const std::vector<std::string>& extra = {}) {
   return walk;
 }
 
+// A GL context, a renderer of the walk's city and its pack opened for reading; null members
+// when one could not be made.
+struct Drawing {
+  std::unique_ptr<gpu::Context> context;  // destroyed last
+  std::unique_ptr<gpu::Renderer> renderer;
+  std::optional<Store> store;
+};
+Drawing draw_walk(const Walk& walk) {
+  Drawing d;
+  auto context = gpu::create_headless_context();
+  if (!context) return d;
+  d.context = std::move(*context);
+  if (auto renderer = gpu::Renderer::create(walk.city)) d.renderer = std::move(*renderer);
+  if (auto store = Store::open(walk.pack, Store::Mode::kRead)) d.store.emplace(std::move(*store));
+  return d;
+}
+
 double figure(const Technique& t, const std::string& name) {
   for (const auto& [key, value] : t.figures())
     if (key == name) return value;
@@ -68,12 +86,10 @@ double figure(const Technique& t, const std::string& name) {
 TEST(StratifiedGL, WalkMatchesBruteWithinTheBoundAndCrossesViewcells) {
   if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
   auto walk = bake_walk();
-  auto context = gpu::create_headless_context();
-  ASSERT_TRUE(context);
-  auto renderer = gpu::Renderer::create(walk->city);
-  ASSERT_TRUE(renderer);
-  auto store = Store::open(walk->pack, Store::Mode::kRead);
-  ASSERT_TRUE(store);
+  Drawing d = draw_walk(*walk);
+  ASSERT_TRUE(d.renderer && d.store);
+  gpu::Renderer* renderer = d.renderer.get();
+  auto& store = d.store;
   auto brute = make_technique("brute");
   ASSERT_TRUE((*brute)->load(walk->city));
   auto stratified = make_technique("stratified");
@@ -90,16 +106,16 @@ TEST(StratifiedGL, WalkMatchesBruteWithinTheBoundAndCrossesViewcells) {
     view.width = 256;
     view.height = 192;
     view.pose = walk->path.frames[f];
-    (*renderer)->set_offscreen(view.width, view.height);
+    renderer->set_offscreen(view.width, view.height);
     (*stratified)->select(view, {}, list);
     ASSERT_FALSE(list.far_quads.empty()) << "frame " << f;
     near_triangles += list.triangle_count() - 2 * list.far_quads.size();
-    (*renderer)->draw(view, list);
+    renderer->draw(view, list);
     if (f % 6 != 0) continue;
-    const Image image = (*renderer)->capture();
+    const Image image = renderer->capture();
     (*brute)->select(view, {}, all);
-    (*renderer)->draw(view, all);
-    const ImageComparison c = compare_images((*renderer)->capture(), image);
+    renderer->draw(view, all);
+    const ImageComparison c = compare_images(renderer->capture(), image);
     psnr_sum += std::min(c.psnr_db, 60.0);
     ++compared;
     EXPECT_GT(c.psnr_db, 18.0) << "frame " << f;
@@ -148,12 +164,10 @@ TEST(StratifiedGL, TwoShellsNestTheirFarFields) {
   if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
   auto walk = bake_walk({"stratified.shells=2", "stratified.spacing=linear",
                          "stratified.factor=1.5"});
-  auto context = gpu::create_headless_context();
-  ASSERT_TRUE(context);
-  auto renderer = gpu::Renderer::create(walk->city);
-  ASSERT_TRUE(renderer);
-  auto store = Store::open(walk->pack, Store::Mode::kRead);
-  ASSERT_TRUE(store);
+  Drawing d = draw_walk(*walk);
+  ASSERT_TRUE(d.renderer && d.store);
+  gpu::Renderer* renderer = d.renderer.get();
+  auto& store = d.store;
   auto t = make_technique("stratified");
   ASSERT_TRUE((*t)->load_baked(walk->city, *store));
   EXPECT_DOUBLE_EQ(figure(**t, "shell1_box_m"), 180.0);
@@ -168,18 +182,18 @@ TEST(StratifiedGL, TwoShellsNestTheirFarFields) {
     view.width = 256;
     view.height = 192;
     view.pose = walk->path.frames[f];
-    (*renderer)->set_offscreen(view.width, view.height);
+    renderer->set_offscreen(view.width, view.height);
     (*t)->select(view, {}, list);
     // Slots come in sets of six sides, one set per viewcell: two viewcells, the outer first.
     std::set<uint32_t> sets;
     for (const TexturedQuad& q : list.far_quads) sets.insert(q.slot / 6);
     EXPECT_EQ(sets.size(), 2u) << "frame " << f;
     for (const TextureUpload& u : list.uploads) EXPECT_TRUE(u.channels == 3 || u.channels == 4);
-    (*renderer)->draw(view, list);
-    const Image image = (*renderer)->capture();
+    renderer->draw(view, list);
+    const Image image = renderer->capture();
     (*brute)->select(view, {}, all);
-    (*renderer)->draw(view, all);
-    psnr_sum += compare_images((*renderer)->capture(), image).psnr_db;
+    renderer->draw(view, all);
+    psnr_sum += compare_images(renderer->capture(), image).psnr_db;
     ++compared;
   }
   EXPECT_GT(psnr_sum / compared, 22.0);

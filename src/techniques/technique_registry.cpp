@@ -1,5 +1,7 @@
 // Names of the techniques and how to make them.
 #include <array>
+#include <cmath>
+#include <cstdlib>
 
 #include "brute/brute_technique.hpp"
 #include "colorcube/colorcube_technique.hpp"
@@ -42,6 +44,16 @@ Result<void> TechniqueSettings::add(const std::string& assignment) {
     return make_error("--set '", assignment, "': expected TECHNIQUE.KEY=VALUE");
   values[assignment.substr(0, equals)] = assignment.substr(equals + 1);
   return {};
+}
+
+Result<double> setting_number(std::string_view technique, const std::string& key,
+                              const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v))
+    return make_error("--set ", std::string(technique), ".", key, ": '", text,
+                      "' is not a number");
+  return v;
 }
 
 std::map<std::string, std::string> TechniqueSettings::for_technique(std::string_view technique) const {

@@ -64,6 +64,10 @@ struct TechniqueSettings {
   std::map<std::string, std::string> for_technique(std::string_view technique) const;
 };
 
+// A setting's value as a finite number; the message names "--set TECHNIQUE.KEY".
+Result<double> setting_number(std::string_view technique, const std::string& key,
+                              const std::string& text);
+
 // The techniques this build knows, with a line each for --help.
 struct TechniqueInfo {
   std::string_view name;

@@ -14,14 +14,6 @@ namespace farfield {
 
 namespace {
 
-Result<double> number(const std::string& key, const std::string& text) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(v))
-    return make_error("--set colorcube.", key, ": '", text, "' is not a number");
-  return v;
-}
-
 // Adds a proxy range, extending the last one when they touch.
 void append(DrawList& out, uint32_t first, uint32_t count) {
   if (count == 0) return;
@@ -42,7 +34,7 @@ Result<ColorcubeOptions> colorcube_options(const std::map<std::string, std::stri
       o.tree.leaf.coverage = text == "binary" ? CoverageMode::binary : CoverageMode::fraction;
       continue;
     }
-    auto v = number(key, text);
+    auto v = setting_number("colorcube", key, text);
     if (!v) return v.error();
     if (key == "depth") o.tree.depth = int(*v);
     else if (key == "cluster") o.tree.leaf.cluster = int(*v);

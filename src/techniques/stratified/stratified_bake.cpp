@@ -201,6 +201,7 @@ Result<void> StratifiedTechnique::bake(const Scene& scene, Store& store, Progres
   ObjectSet far(scene);
   DrawList list;
   std::vector<uint8_t> near_flags(scene.objects.size());
+  std::vector<uint32_t> far_objects;
   CellWriter writer(store, params, uint32_t(scene.objects.size()));
   std::string error;
   progress.start("bake stratified", total - already);
@@ -228,12 +229,16 @@ Result<void> StratifiedTechnique::bake(const Scene& scene, Store& store, Progres
           reach.expand(trees[s + 1].box_bounds(k));
       }
       const glm::vec3 centre = tree.centre(key);
+      // The viewcell's far objects, once; each side then keeps those in its pyramid.
+      far_objects.clear();
+      for (uint32_t i = 0; i < bounds.size(); ++i)
+        if (!near_flags[i] && meet(bounds[i], reach)) far_objects.push_back(i);
       for (int f = 0; f < kFaces; ++f) {
         const FaceFrame frame = face_frame(f);
         far.clear();
         bool any = false;
-        for (uint32_t i = 0; i < bounds.size(); ++i)
-          if (!near_flags[i] && meet(bounds[i], reach) && in_face_pyramid(bounds[i], centre, frame)) {
+        for (uint32_t i : far_objects)
+          if (in_face_pyramid(bounds[i], centre, frame)) {
             far.insert(i);
             any = true;
           }

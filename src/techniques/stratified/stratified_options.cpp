@@ -5,24 +5,18 @@
 #include <sstream>
 #include <vector>
 
+#include "farfield/techniques/technique.hpp"
+
 namespace farfield::stratified {
 
 namespace {
-
-Result<double> number(const std::string& key, const std::string& text) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(v))
-    return make_error("--set stratified.", key, ": '", text, "' is not a number");
-  return v;
-}
 
 Result<std::vector<double>> numbers(const std::string& key, const std::string& text, size_t count) {
   std::vector<double> out;
   std::stringstream in(text);
   std::string part;
   while (std::getline(in, part, ',')) {
-    auto v = number(key, part);
+    auto v = setting_number("stratified", key, part);
     if (!v) return v.error();
     out.push_back(*v);
   }
@@ -85,7 +79,7 @@ Result<StratifiedOptions> stratified_options(const std::map<std::string, std::st
         return make_error("--set stratified.style must be full, near, far-objects, far-texture "
                           "or brute (got '", text, "')");
     } else {
-      auto v = number(key, text);
+      auto v = setting_number("stratified", key, text);
       if (!v) return v.error();
       const double x = *v;
       auto whole = [&](double lo, double hi) -> Result<int> {

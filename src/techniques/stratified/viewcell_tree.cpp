@@ -152,8 +152,8 @@ bool ViewcellTree::visit(const Range& r, std::span<const Bounds3> objects,
     for (uint32_t i : list)
       if (meet(objects[i], b)) child.push_back(i);
     stats.object_tests += list.size();
-    const std::vector<CellKey> mine = all ? std::vector<CellKey>{} : inside;
-    if (!visit(half, objects, child, mine, all, visitor, stats)) return false;
+    // `inside` and `child` are refilled only after the recursion into this half returns.
+    if (!visit(half, objects, child, inside, all, visitor, stats)) return false;
   }
   return true;
 }
