@@ -4,18 +4,21 @@
 # deeper each time the field quadruples; brute force and colorcube benched on each, and one
 # plot of frame time and drawn triangles against scene size.
 #
-#   scripts/sublinear_experiment.sh TREE.ffscene OUT_DIR [FRAMES] [BASE_DEPTH]
+#   scripts/sublinear_experiment.sh TREE.ffscene OUT_DIR [FRAMES] [BASE_DEPTH] [SPACING]
+#
+# SPACING is in tree widths (default 1.5).
 set -euo pipefail
-tree=${1:?usage: $0 TREE.ffscene OUT_DIR [FRAMES] [BASE_DEPTH]}
-out=${2:?usage: $0 TREE.ffscene OUT_DIR [FRAMES] [BASE_DEPTH]}
+usage="usage: $0 TREE.ffscene OUT_DIR [FRAMES] [BASE_DEPTH] [SPACING]"
+tree=${1:?$usage}
+out=${2:?$usage}
 frames=${3:-30}
 base_depth=${4:-4}
+spacing_widths=${5:-1.5}
 farfield=${FARFIELD:-$(dirname "$0")/../build/farfield}
 mkdir -p "$out"
 
-# Spacing: one and a half tree widths, from the tree's bounds.
 width=$("$farfield" info "$tree" | awk '/^size:/ { print ($2 > $6 ? $2 : $6) }')
-spacing=$(awk -v w="$width" 'BEGIN { printf "%.2f", 1.5 * w }')
+spacing=$(awk -v w="$width" -v k="$spacing_widths" 'BEGIN { printf "%.2f", k * w }')
 height=$("$farfield" info "$tree" | awk '/^size:/ { print $4 }')
 
 depth=$base_depth

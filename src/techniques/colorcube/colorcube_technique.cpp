@@ -1,6 +1,7 @@
 #include "colorcube_technique.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 
@@ -34,6 +35,12 @@ Result<ColorcubeOptions> colorcube_options(const std::map<std::string, std::stri
       o.tree.leaf.coverage = text == "binary" ? CoverageMode::binary : CoverageMode::fraction;
       continue;
     }
+    if (key == "inner_faces") {
+      if (text != "drop" && text != "keep")
+        return make_error("--set colorcube.inner_faces must be drop or keep (got '", text, "')");
+      o.tree.drop_inner_faces = text == "drop";
+      continue;
+    }
     auto v = setting_number("colorcube", key, text);
     if (!v) return v.error();
     if (key == "depth") o.tree.depth = int(*v);
@@ -41,11 +48,12 @@ Result<ColorcubeOptions> colorcube_options(const std::map<std::string, std::stri
     else if (key == "oversampling") o.tree.leaf.oversampling = int(*v);
     else if (key == "threshold") o.tree.coverage_threshold = float(*v);
     else if (key == "alpha") o.tree.coverage_as_alpha = *v != 0.0;
+    else if (key == "occlusion") o.occlusion = *v != 0.0;
     else if (key == "pixels") o.pixel_tolerance = float(*v);
     else if (key == "threads") o.tree.threads = int(*v);
     else
       return make_error("--set colorcube.", key, ": unknown setting (known: depth, cluster, "
-                        "oversampling, coverage, threshold, alpha, pixels, threads)");
+                        "oversampling, coverage, threshold, alpha, inner_faces, occlusion, pixels, threads)");
   }
   if (!(o.pixel_tolerance > 0.0f)) return make_error("--set colorcube.pixels must be > 0");
   return o;
@@ -56,8 +64,9 @@ Result<void> ColorcubeTechnique::load(const Scene& scene) {
   auto tree = build_cube_tree(scene, options_.tree, quiet);
   if (!tree) return make_error("colorcube: ", tree.error().message);
   tree_ = std::move(*tree);
+  index_outlines();
   stack_.reserve(8 * tree_.stats.levels + 8);
-  frames_ = cube_faces_drawn_ = leaf_triangles_drawn_ = 0;
+  frames_ = cube_faces_drawn_ = leaf_triangles_drawn_ = cells_occluded_ = 0;
   return {};
 }
 
@@ -66,6 +75,7 @@ Result<void> ColorcubeTechnique::bake(const Scene& scene, Store& store, Progress
   if (!tree) return make_error("colorcube: ", tree.error().message);
   if (auto ok = save_cube_tree(*tree, scene_fingerprint(scene), store); !ok) return ok;
   tree_ = std::move(*tree);
+  index_outlines();
   stack_.reserve(8 * tree_.stats.levels + 8);
   return {};
 }
@@ -74,7 +84,8 @@ Result<void> ColorcubeTechnique::load_baked(const Scene& scene, const Store& sto
   auto tree = load_cube_tree(store, scene_fingerprint(scene));
   if (!tree) return tree.error();
   tree_ = std::move(*tree);
-  frames_ = cube_faces_drawn_ = leaf_triangles_drawn_ = 0;
+  index_outlines();
+  frames_ = cube_faces_drawn_ = leaf_triangles_drawn_ = cells_occluded_ = 0;
   stack_.reserve(8 * tree_.stats.levels + 8);
   return {};
 }
@@ -90,10 +101,12 @@ void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& 
   const float epsilon = options_.pixel_tolerance * 2.0f *
                         std::tan(glm::radians(view.hfov_deg) * 0.5f) / float(view.width);
   const float cluster = float(tree_.stats.cluster);
+  if (options_.occlusion) occlusion_.reset(view);
   stack_.clear();
   stack_.push_back(0);
   while (!stack_.empty()) {
-    const CubeCell& cell = tree_.cells[stack_.back()];
+    const uint32_t index = stack_.back();
+    const CubeCell& cell = tree_.cells[index];
     stack_.pop_back();
     if (frustum.classify(cell.reach) == Visibility::none) continue;
     // The depth of the nearest corner of what the cell may draw, in the field of view.
@@ -105,7 +118,13 @@ void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& 
       depth = std::min(depth, glm::dot(corner - eye, forward));
     }
     const float cube_size = (cell.bounds.max.x - cell.bounds.min.x) / cluster;
-    if (depth > 0.0f && cube_size < epsilon * depth) {
+    const bool as_cubes = depth > 0.0f && cube_size < epsilon * depth;
+    // Drawn as cubes the cell stays inside its bounds; otherwise its triangles may reach out.
+    if (options_.occlusion && occlusion_.hidden(as_cubes ? cell.bounds : cell.reach)) {
+      ++cells_occluded_;
+      continue;
+    }
+    if (as_cubes) {
       for (int face = 0; face < 6; ++face) {
         if (cell.faces_count[face] == 0) continue;
         const int a = face_axis(face);
@@ -116,6 +135,7 @@ void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& 
         append(out, cell.faces_begin[face], cell.faces_count[face]);
         cube_faces_drawn_ += cell.faces_count[face] / 6;  // two triangles a face
       }
+      if (options_.occlusion) mark_occluders(index);
       continue;
     }
     if (cell.leaf()) {
@@ -133,6 +153,76 @@ void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& 
   }
 }
 
+// Which cubes of each cell have an opaque outline, as bits (x + c (y + c z)), read once from
+// the proxy quads (cube_tree.cpp: four vertices a face, its first index its first corner, the
+// corner at the cube's low u and v and on the face's side along its axis). A cube is outlined
+// when each of its faces is drawn opaque or lies against an outlined neighbour of the
+// cluster (the largest such set): a ray into the cube's outline then meets an opaque face at
+// or before the cube, whichever way it comes. This covers the faces the bake dropped against
+// solid neighbours. Translucent faces (colorcube.alpha=1) count as not drawn.
+void ColorcubeTechnique::index_outlines() {
+  const int c = int(tree_.stats.cluster), count = c * c * c;
+  mask_words_ = (uint32_t(count) + 63) / 64;
+  outlined_.assign(tree_.cells.size() * mask_words_, 0);
+  const std::vector<ProxyVertex>& v = tree_.proxies.vertices;
+  const std::vector<uint32_t>& indices = tree_.proxies.indices;
+  std::vector<uint8_t> drawn(static_cast<size_t>(count)), in(static_cast<size_t>(count));  // face bits; the set
+  for (size_t i = 0; i < tree_.cells.size(); ++i) {
+    const CubeCell& cell = tree_.cells[i];
+    const glm::vec3 step = cell.bounds.size() / float(c);
+    std::fill(drawn.begin(), drawn.end(), 0);
+    for (int face = 0; face < 6; ++face) {
+      const int a = face_axis(face);
+      for (uint32_t k = cell.faces_begin[face]; k < cell.faces_begin[face] + cell.faces_count[face]; k += 6) {
+        const ProxyVertex& corner = v[indices[k]];
+        if ((corner.color >> 24) != 0xFF) continue;
+        glm::vec3 lo = corner.position;
+        if (face_sign(face) > 0) lo[a] -= step[a];
+        const glm::ivec3 g = glm::clamp(glm::ivec3(glm::round((lo - cell.bounds.min) / step)),
+                                        glm::ivec3(0), glm::ivec3(c - 1));
+        drawn[size_t(g.x + c * (g.y + c * g.z))] |= uint8_t(1u << face);
+      }
+    }
+    std::fill(in.begin(), in.end(), 1);
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (int b = 0; b < count; ++b) {
+        if (!in[size_t(b)]) continue;
+        const int g[3] = {b % c, b / c % c, b / (c * c)};
+        for (int face = 0; face < 6 && in[size_t(b)]; ++face) {
+          if (drawn[size_t(b)] >> face & 1) continue;
+          int n[3] = {g[0], g[1], g[2]};
+          n[face_axis(face)] += face_sign(face);
+          const bool against = n[face_axis(face)] >= 0 && n[face_axis(face)] < c &&
+                               in[size_t(n[0] + c * (n[1] + c * n[2]))];
+          if (!against) {
+            in[size_t(b)] = 0;
+            changed = true;
+          }
+        }
+      }
+    }
+    for (int b = 0; b < count; ++b)
+      if (in[size_t(b)]) outlined_[i * mask_words_ + size_t(b / 64)] |= uint64_t(1) << (b % 64);
+  }
+}
+
+// A cell's outlined cubes into the occlusion buffer.
+void ColorcubeTechnique::mark_occluders(uint32_t cell_index) {
+  const CubeCell& cell = tree_.cells[cell_index];
+  const int c = int(tree_.stats.cluster);
+  const glm::vec3 step = cell.bounds.size() / float(c);
+  const uint64_t* mask = outlined_.data() + size_t(cell_index) * mask_words_;
+  centres_.clear();
+  for (uint32_t word = 0; word < mask_words_; ++word)
+    for (uint64_t bits = mask[word]; bits != 0; bits &= bits - 1) {
+      const int bit = int(word * 64) + std::countr_zero(bits);
+      const glm::vec3 g(float(bit % c), float(bit / c % c), float(bit / (c * c)));
+      centres_.push_back(cell.bounds.min + step * (g + 0.5f));
+    }
+  occlusion_.add_boxes(step, cell.bounds, centres_);
+}
+
 std::vector<std::pair<std::string, double>> ColorcubeTechnique::figures() const {
   const CubeTreeStats& s = tree_.stats;  // paper 002, Table 1
   return {{"tree_cells", s.cells},
@@ -141,13 +231,15 @@ std::vector<std::pair<std::string, double>> ColorcubeTechnique::figures() const 
           {"clustering_factor", s.cluster},
           {"oversampling_factor", s.oversampling},
           {"cube_faces_in_model", double(s.cube_faces)},
+          {"inner_faces_dropped", double(s.inner_faces_dropped)},
           {"leaf_triangles", double(s.geometry_triangles)},
           {"preprocessing_leaves_s", s.leaf_bake_s},
           {"preprocessing_hierarchy_s", s.hierarchy_s},
           // Per frame over the frames selected so far (bench: warm-up frames and the path).
           {"mean_cube_faces_drawn", frames_ ? double(cube_faces_drawn_) / double(frames_) : 0.0},
           {"mean_leaf_triangles_drawn",
-           frames_ ? double(leaf_triangles_drawn_) / double(frames_) : 0.0}};
+           frames_ ? double(leaf_triangles_drawn_) / double(frames_) : 0.0},
+          {"mean_cells_occluded", frames_ ? double(cells_occluded_) / double(frames_) : 0.0}};
 }
 
 std::string ColorcubeTechnique::describe() const {
@@ -155,9 +247,10 @@ std::string ColorcubeTechnique::describe() const {
   char line[256];
   std::snprintf(line, sizeof(line),
                 "%u cells (%u leaves), %u levels, cluster %ux%ux%u, oversampling %ux%u, %llu cube "
-                "faces, %llu leaf triangles, bake %.2f s + %.2f s",
+                "faces (%llu inner ones dropped), %llu leaf triangles, bake %.2f s + %.2f s",
                 s.cells, s.leaves, s.levels, s.cluster, s.cluster, s.cluster, s.oversampling,
                 s.oversampling, (unsigned long long)s.cube_faces,
+                (unsigned long long)s.inner_faces_dropped,
                 (unsigned long long)s.geometry_triangles, s.leaf_bake_s, s.hierarchy_s);
   return line;
 }

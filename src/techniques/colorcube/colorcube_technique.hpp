@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "farfield/spatial/occlusion_buffer.hpp"
 #include "farfield/techniques/colorcube/cube_tree.hpp"
 #include "farfield/techniques/technique.hpp"
 
@@ -17,10 +18,13 @@ namespace farfield {
 struct ColorcubeOptions {
   CubeTreeOptions tree;
   float pixel_tolerance = 1.0f;  // epsilon as pixels at the view's resolution and field of view
+  // Skip cells hidden behind cube faces already drawn this frame (not in the paper, which
+  // draws every cell that passes frustum culling). Leaves the image unchanged.
+  bool occlusion = true;
 };
 
 // Reads `depth`, `cluster`, `oversampling`, `coverage` (binary|fraction), `threshold`,
-// `alpha` (0|1), `pixels`, `threads`.
+// `alpha` (0|1), `inner_faces` (drop|keep), `occlusion` (0|1), `pixels`, `threads`.
 Result<ColorcubeOptions> colorcube_options(const std::map<std::string, std::string>& settings);
 
 class ColorcubeTechnique final : public Technique {
@@ -37,10 +41,18 @@ class ColorcubeTechnique final : public Technique {
   const CubeTree& tree() const { return tree_; }
 
  private:
+  void index_outlines();
+  void mark_occluders(uint32_t cell);
+
   ColorcubeOptions options_;
   CubeTree tree_;
   std::vector<uint32_t> stack_;
-  uint64_t frames_ = 0, cube_faces_drawn_ = 0, leaf_triangles_drawn_ = 0;  // figures()
+  OcclusionBuffer occlusion_;
+  std::vector<uint64_t> outlined_;  // per cell, mask_words_ words of bits: cubes with an opaque outline
+  uint32_t mask_words_ = 0;
+  std::vector<glm::vec3> centres_;  // mark_occluders' scratch
+  // figures()
+  uint64_t frames_ = 0, cube_faces_drawn_ = 0, leaf_triangles_drawn_ = 0, cells_occluded_ = 0;
 };
 
 }  // namespace farfield

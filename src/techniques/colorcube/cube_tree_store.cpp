@@ -49,6 +49,7 @@ Result<void> save_cube_tree(const CubeTree& tree, uint64_t fingerprint, Store& s
                             std::to_string(s.levels) + ", cluster " + std::to_string(s.cluster) +
                             ", oversampling " + std::to_string(s.oversampling) +
                             ", cube faces " + std::to_string(s.cube_faces) +
+                            " (inner faces dropped " + std::to_string(s.inner_faces_dropped) + ")" +
                             ", preprocessing " + std::to_string(s.leaf_bake_s) + " s + " +
                             std::to_string(s.hierarchy_s) + " s";
   if (auto ok = store.set_meta("colorcube/table1", table); !ok) return ok;

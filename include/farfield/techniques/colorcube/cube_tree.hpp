@@ -30,6 +30,7 @@ struct CubeTreeOptions {
   LeafBakeOptions leaf{.oversampling = 1, .cluster = 4, .coverage = CoverageMode::binary};
   float coverage_threshold = 0.0f;  // a face is drawn when its coverage exceeds this
   bool coverage_as_alpha = false;   // draw coverage as transparency (paper 002, Sec. 4.1)
+  bool drop_inner_faces = true;     // drop faces against a solid neighbour (the paper keeps them)
   int threads = 0;                  // leaf bake threads; 0: all cores
 };
 
@@ -53,6 +54,7 @@ struct CubeCell {
 struct CubeTreeStats {  // paper 002, Table 1
   uint32_t cells = 0, leaves = 0, levels = 0, cluster = 0, oversampling = 0;
   uint64_t cube_faces = 0;          // faces kept in the model (drawable)
+  uint64_t inner_faces_dropped = 0; // faces against a solid neighbour, never seen
   uint64_t geometry_triangles = 0;  // the leaves' own triangles (each scene triangle once)
   double leaf_bake_s = 0;          // phase I: leaves rendered
   double hierarchy_s = 0;          // phase II: parents combined, proxies built
