@@ -90,17 +90,16 @@ void OcclusionBuffer::outline(const glm::vec3& size, Local& l) {
                         std::abs(glm::dot(l.normal[a], l.e[(a + 2) % 3])));
 }
 
-void OcclusionBuffer::add_boxes(const glm::vec3& size, const Bounds3& region,
-                                std::span<const glm::vec3> centres) {
+void OcclusionBuffer::add_boxes(const Bounds3& region, std::span<const Bounds3> boxes) {
   Local l;
   if (!linearise(region, l)) return;  // too near or too large: mark nothing
-  outline(size, l);
-  // Only pixel centres inside by the margin, the linearisation's error included.
-  float inner[3];
-  for (int a = 0; a < 3; ++a) inner[a] = l.half[a] - (kMargin + l.error) * glm::length(l.normal[a]);
   const glm::vec3 middle = region.center();
-  for (const glm::vec3& c : centres) {
-    const glm::vec3 d = c - middle;
+  for (const Bounds3& box : boxes) {
+    outline(box.size(), l);
+    // Only pixel centres inside by the margin, the linearisation's error included.
+    float inner[3];
+    for (int a = 0; a < 3; ++a) inner[a] = l.half[a] - (kMargin + l.error) * glm::length(l.normal[a]);
+    const glm::vec3 d = box.center() - middle;
     const glm::vec2 p(l.s0.x + glm::dot(l.jx, d), l.s0.y + glm::dot(l.jy, d));
     // Pixel (x, y) has its centre at (x + 0.5, y + 0.5).
     const int x0 = std::max(0, int(std::ceil(p.x - l.extent.x - 0.5f)));

@@ -24,15 +24,16 @@ class OcclusionBuffer {
  public:
   // Sizes the buffer to the view and clears it.
   void reset(const View& view);
-  // Marks the pixels inside the projections of equal axis-aligned boxes of `size` centred at
-  // `centres`, all inside `region`, whose outlines are drawn opaque (their faces towards the
-  // eye are). Near a small region the projection is nearly affine: a box's outline is then
-  // the same hexagon everywhere, three slab tests a pixel, the affine error bound widening
-  // the margin. A region too near or too large for that marks nothing.
-  void add_boxes(const glm::vec3& size, const Bounds3& region, std::span<const glm::vec3> centres);
+  // Marks the pixels inside the outlines of boxes that lie inside `region` and are drawn
+  // opaque (their faces towards the eye are). Near a small region the projection is nearly
+  // affine: a box's outline is then a hexagon, three slab tests a pixel, the affine error
+  // bound widening the margin. A region too near or too large for that marks nothing.
+  void add_boxes(const Bounds3& region, std::span<const Bounds3> boxes);
   bool hidden(const Bounds3& box) const;
-  // Pixels holding a mark.
+  // Pixels holding a mark; the view depth marked at a pixel (row 0 at the bottom), INFINITY
+  // where none is.
   size_t marked() const;
+  float depth_at(int x, int y) const { return depth_[size_t(y) * size_t(width_) + size_t(x)]; }
 
  private:
   struct Local;

@@ -153,7 +153,7 @@ void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& 
   }
 }
 
-// Which cubes of each cell have an opaque outline, as bits (x + c (y + c z)), read once from
+// Which cubes of each cell have an opaque outline, read once from
 // the proxy quads (cube_tree.cpp: four vertices a face, its first index its first corner, the
 // corner at the cube's low u and v and on the face's side along its axis). A cube is outlined
 // when each of its faces is drawn opaque or lies against an outlined neighbour of the
@@ -162,8 +162,8 @@ void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& 
 // solid neighbours. Translucent faces (colorcube.alpha=1) count as not drawn.
 void ColorcubeTechnique::index_outlines() {
   const int c = int(tree_.stats.cluster), count = c * c * c;
-  mask_words_ = (uint32_t(count) + 63) / 64;
-  outlined_.assign(tree_.cells.size() * mask_words_, 0);
+  outlines_.clear();
+  outline_first_.assign(tree_.cells.size() + 1, 0);
   const std::vector<ProxyVertex>& v = tree_.proxies.vertices;
   const std::vector<uint32_t>& indices = tree_.proxies.indices;
   std::vector<uint8_t> drawn(static_cast<size_t>(count)), in(static_cast<size_t>(count));  // face bits; the set
@@ -202,25 +202,49 @@ void ColorcubeTechnique::index_outlines() {
         }
       }
     }
-    for (int b = 0; b < count; ++b)
-      if (in[size_t(b)]) outlined_[i * mask_words_ + size_t(b / 64)] |= uint64_t(1) << (b % 64);
+    // Outlined cubes merged greedily into boxes (runs along X, grown along Y, then Z), so
+    // that no margin is lost between neighbours and fewer outlines are drawn.
+    outline_first_[i] = uint32_t(outlines_.size());
+    for (int b = 0; b < count; ++b) {
+      if (!in[size_t(b)]) continue;
+      const int x0 = b % c, y0 = b / c % c, z0 = b / (c * c);
+      auto taken = [&](int x, int y, int z) { return in[size_t(x + c * (y + c * z))] != 0; };
+      int x1 = x0 + 1, y1 = y0 + 1, z1 = z0 + 1;
+      while (x1 < c && taken(x1, y0, z0)) ++x1;
+      auto row = [&](int y, int z) {
+        for (int x = x0; x < x1; ++x)
+          if (!taken(x, y, z)) return false;
+        return true;
+      };
+      while (y1 < c && row(y1, z0)) ++y1;
+      auto layer = [&](int z) {
+        for (int y = y0; y < y1; ++y)
+          if (!row(y, z)) return false;
+        return true;
+      };
+      while (z1 < c && layer(z1)) ++z1;
+      for (int z = z0; z < z1; ++z)
+        for (int y = y0; y < y1; ++y)
+          for (int x = x0; x < x1; ++x) in[size_t(x + c * (y + c * z))] = 0;
+      outlines_.push_back({{uint8_t(x0), uint8_t(y0), uint8_t(z0)}, {uint8_t(x1), uint8_t(y1), uint8_t(z1)}});
+    }
   }
+  outline_first_.back() = uint32_t(outlines_.size());
 }
 
-// A cell's outlined cubes into the occlusion buffer.
+// A cell's outlined boxes into the occlusion buffer.
 void ColorcubeTechnique::mark_occluders(uint32_t cell_index) {
   const CubeCell& cell = tree_.cells[cell_index];
-  const int c = int(tree_.stats.cluster);
-  const glm::vec3 step = cell.bounds.size() / float(c);
-  const uint64_t* mask = outlined_.data() + size_t(cell_index) * mask_words_;
-  centres_.clear();
-  for (uint32_t word = 0; word < mask_words_; ++word)
-    for (uint64_t bits = mask[word]; bits != 0; bits &= bits - 1) {
-      const int bit = int(word * 64) + std::countr_zero(bits);
-      const glm::vec3 g(float(bit % c), float(bit / c % c), float(bit / (c * c)));
-      centres_.push_back(cell.bounds.min + step * (g + 0.5f));
-    }
-  occlusion_.add_boxes(step, cell.bounds, centres_);
+  const glm::vec3 step = cell.bounds.size() / float(tree_.stats.cluster);
+  boxes_.clear();
+  for (uint32_t k = outline_first_[cell_index]; k < outline_first_[cell_index + 1]; ++k) {
+    const CubeOutline& o = outlines_[k];
+    Bounds3 box;
+    box.min = cell.bounds.min + step * glm::vec3(o.lo[0], o.lo[1], o.lo[2]);
+    box.max = cell.bounds.min + step * glm::vec3(o.hi[0], o.hi[1], o.hi[2]);
+    boxes_.push_back(box);
+  }
+  occlusion_.add_boxes(cell.bounds, boxes_);
 }
 
 std::vector<std::pair<std::string, double>> ColorcubeTechnique::figures() const {

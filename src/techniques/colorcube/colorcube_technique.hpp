@@ -48,9 +48,14 @@ class ColorcubeTechnique final : public Technique {
   CubeTree tree_;
   std::vector<uint32_t> stack_;
   OcclusionBuffer occlusion_;
-  std::vector<uint64_t> outlined_;  // per cell, mask_words_ words of bits: cubes with an opaque outline
-  uint32_t mask_words_ = 0;
-  std::vector<glm::vec3> centres_;  // mark_occluders' scratch
+  // Boxes of cubes with an opaque outline, in cubes of the cluster (hi exclusive); those of
+  // cell i are outlines_[outline_first_[i] .. outline_first_[i + 1]).
+  struct CubeOutline {
+    uint8_t lo[3], hi[3];
+  };
+  std::vector<CubeOutline> outlines_;
+  std::vector<uint32_t> outline_first_;
+  std::vector<Bounds3> boxes_;  // mark_occluders' scratch
   // figures()
   uint64_t frames_ = 0, cube_faces_drawn_ = 0, leaf_triangles_drawn_ = 0, cells_occluded_ = 0;
 };
