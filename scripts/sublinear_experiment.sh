@@ -6,14 +6,19 @@
 #
 #   scripts/sublinear_experiment.sh TREE.ffscene OUT_DIR [FRAMES] [BASE_DEPTH] [SPACING]
 #
-# SPACING is in tree widths (default 1.5).
+# SPACING is in tree widths (default 4); BASE_DEPTH (default 7) is the octree depth of one
+# spacing, so a leaf cube is spacing / 2^BASE_DEPTH / 4 and the front tree stands where such a
+# cube is one pixel, plus one spacing. With the defaults the 256-tree field (13.4M triangles)
+# bakes at depth 11 and needs ~12 GB; the dense field of the first measurements is
+# `... 30 4 1.5`. Extra colorcube settings for both: COLORCUBE_SETTINGS="--set colorcube.
+# occlusion=0 --set colorcube.inner_faces=keep" benches paper 002's own walk.
 set -euo pipefail
 usage="usage: $0 TREE.ffscene OUT_DIR [FRAMES] [BASE_DEPTH] [SPACING]"
 tree=${1:?$usage}
 out=${2:?$usage}
 frames=${3:-30}
-base_depth=${4:-4}
-spacing_widths=${5:-1.5}
+base_depth=${4:-7}
+spacing_widths=${5:-4}
 farfield=${FARFIELD:-$(dirname "$0")/../build/farfield}
 mkdir -p "$out"
 
@@ -44,7 +49,7 @@ poses = [{"position": [x + 0.05 * i, 0.6 * height, z], "yaw_deg": yaw, "pitch_de
 json.dump({"format": "farfield-path", "version": 1, "kind": "static", "scene": field, "frames": poses}, open(path, "w"))
 PY
   "$farfield" bench "$field" --path "$out/path_$count.json" -t brute,colorcube \
-    --set colorcube.depth=$depth --out "$out/bench_$count" --no-plot -q --samples 1 \
+    --set colorcube.depth=$depth ${COLORCUBE_SETTINGS:-} --out "$out/bench_$count" --no-plot -q --samples 1 \
     --reference-every 5 | tail -n 3
   depth=$((depth + 1))
 done

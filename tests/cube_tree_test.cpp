@@ -8,7 +8,9 @@
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/lighting.hpp"
 #include "farfield/gpu/renderer.hpp"
+#include "farfield/scene/field_generator.hpp"
 #include "farfield/scene/scene_file.hpp"
+#include "farfield/scene/tree_generator.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/colorcube/cube_tree.hpp"
 #include "farfield/techniques/technique.hpp"
@@ -240,6 +242,91 @@ TEST(CubeTree, BakeCommandWritesAPackInfoDescribes) {
   EXPECT_EQ(octree.exit_status, 1);
   EXPECT_NE(octree.output.find("nothing to bake"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(dir.file("o.ffpack")));
+}
+
+}  // namespace
+}  // namespace farfield
+
+namespace farfield {
+namespace {
+
+// Occlusion culling must not change a pixel, and dropping the faces against solid neighbours
+// may change only pixels whose centres fall exactly on a dropped face's edge (the renderer's
+// tie-breaking rule then gives them to the dropped face): views across a field of 3 x 3 trees
+// low over the ground, where near crowns hide far ones.
+TEST(ColorcubeGL, OcclusionAndDroppedInnerFacesLeaveTheImageUnchanged) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  Progress quiet(true);
+  auto tree = generate_tree({}, quiet);
+  ASSERT_TRUE(tree);
+  auto field = generate_field(*tree, {.count = 9, .spacing = 15.0}, quiet);
+  ASSERT_TRUE(field);
+  const Scene& scene = *field;
+  auto renderer = gpu::Renderer::create(scene);
+  ASSERT_TRUE(renderer);
+  auto make = [&](const char* occlusion, const char* inner) {
+    TechniqueSettings settings;
+    EXPECT_TRUE(settings.add("colorcube.depth=6"));
+    EXPECT_TRUE(settings.add(std::string("colorcube.occlusion=") + occlusion));
+    EXPECT_TRUE(settings.add(std::string("colorcube.inner_faces=") + inner));
+    auto t = make_technique("colorcube", settings);
+    EXPECT_TRUE(t) << t.error().message;
+    EXPECT_TRUE((*t)->load(scene));
+    return std::move(*t);
+  };
+  auto paper = make("0", "keep"), occluded = make("1", "keep"), culled = make("1", "drop");
+  auto figure = [](const Technique& t, const char* name) {
+    for (const auto& [key, value] : t.figures())
+      if (key == name) return value;
+    return -1.0;
+  };
+  EXPECT_GT(figure(*culled, "inner_faces_dropped"), 0.0);
+  EXPECT_EQ(figure(*paper, "inner_faces_dropped"), 0.0);
+  EXPECT_LT(figure(*culled, "cube_faces_in_model"), figure(*paper, "cube_faces_in_model"));
+
+  View view;
+  view.width = 320;
+  view.height = 240;
+  (*renderer)->set_offscreen(view.width, view.height);
+  DrawList list;
+  uint64_t paper_triangles = 0, occluded_triangles = 0, culled_triangles = 0;
+  for (int k = 0; k < 12; ++k) {
+    // Around the field (42 m wide, centred on the origin), 60-170 m out, 1-6 m up.
+    const float angle = 0.52f * float(k), distance = 60.0f + 10.0f * float(k);
+    const glm::vec3 centre(0.0f, 5.0f, 0.0f);
+    view.pose.position = centre + glm::vec3(distance * std::cos(angle), 1.0f + 0.4f * float(k),
+                                            distance * std::sin(angle));
+    const glm::vec3 to = glm::normalize(centre - view.pose.position);
+    view.pose.yaw_deg = glm::degrees(std::atan2(to.z, to.x));
+    view.pose.pitch_deg = glm::degrees(std::asin(to.y));
+    (*renderer)->set_proxies(*paper->proxies());
+    paper->select(view, {}, list);
+    paper_triangles += list.proxy_triangle_count();
+    (*renderer)->draw(view, list);
+    const Image reference = (*renderer)->capture();
+    (*renderer)->set_proxies(*occluded->proxies());
+    occluded->select(view, {}, list);
+    occluded_triangles += list.proxy_triangle_count();
+    (*renderer)->draw(view, list);
+    EXPECT_EQ(compare_images(reference, (*renderer)->capture()).differing_pixels, 0u) << "view " << k;
+    (*renderer)->set_proxies(*culled->proxies());
+    culled->select(view, {}, list);
+    culled_triangles += list.proxy_triangle_count();
+    (*renderer)->draw(view, list);
+    EXPECT_LE(compare_images(reference, (*renderer)->capture()).differing_pixels, 4u) << "view " << k;
+  }
+  EXPECT_LT(occluded_triangles, paper_triangles);
+  EXPECT_LT(culled_triangles, occluded_triangles);
+  EXPECT_GT(figure(*occluded, "mean_cells_occluded"), 0.0);
+}
+
+TEST(ColorcubeSettings, RefusesUnknownInnerFacesValues) {
+  TechniqueSettings settings;
+  ASSERT_TRUE(settings.add("colorcube.inner_faces=sometimes"));
+  auto t = make_technique("colorcube", settings);
+  ASSERT_FALSE(t);
+  EXPECT_NE(t.error().message.find("colorcube.inner_faces"), std::string::npos) << t.error().message;
 }
 
 }  // namespace

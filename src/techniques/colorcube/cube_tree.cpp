@@ -263,10 +263,11 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
           for (int x = 0; x < c; ++x) {
             const FaceColor& f = cluster[x + c * (y + c * z)].faces[face];
             if (!drawn(f)) continue;
-            // Not in the paper: a face against a solid neighbour of the same cluster is never
-            // seen, since a ray reaching it crosses the neighbour, whose faces towards the
-            // eye are drawn in the same batch set. Dropping it turns the cost of a solid
-            // cluster from its volume to its surface.
+            // Not in the paper: a face against a solid neighbour of the same cluster is
+            // hidden, since a ray reaching it crosses the neighbour, whose faces towards the
+            // eye are drawn in the same batch set (only a pixel centre exactly on the face's
+            // edge may differ, by the renderer's tie-breaking). Dropping it turns the cost of
+            // a solid cluster from its volume to its surface.
             if (o.drop_inner_faces) {
               int n[3] = {x, y, z};
               n[a] += sign;
