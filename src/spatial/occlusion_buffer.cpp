@@ -14,6 +14,13 @@ constexpr float kMargin = 1.0f / 32.0f;
 
 }  // namespace
 
+// The pixels whose centres (x + 0.5, y + 0.5) lie in the screen rectangle [lo, hi], clamped
+// to the frame; empty when x0 > x1 or y0 > y1.
+OcclusionBuffer::PixelRange OcclusionBuffer::centres_within(const glm::vec2& lo, const glm::vec2& hi) const {
+  return {std::max(0, int(std::ceil(lo.x - 0.5f))), std::min(width_ - 1, int(std::floor(hi.x - 0.5f))),
+          std::max(0, int(std::ceil(lo.y - 0.5f))), std::min(height_ - 1, int(std::floor(hi.y - 0.5f)))};
+}
+
 void OcclusionBuffer::reset(const View& view) {
   view_projection_ = view.view_projection();
   near_ = view.near_m;
@@ -101,11 +108,7 @@ void OcclusionBuffer::add_boxes(const Bounds3& region, std::span<const Bounds3> 
     for (int a = 0; a < 3; ++a) inner[a] = l.half[a] - (kMargin + l.error) * glm::length(l.normal[a]);
     const glm::vec3 d = box.center() - middle;
     const glm::vec2 p(l.s0.x + glm::dot(l.jx, d), l.s0.y + glm::dot(l.jy, d));
-    // Pixel (x, y) has its centre at (x + 0.5, y + 0.5).
-    const int x0 = std::max(0, int(std::ceil(p.x - l.extent.x - 0.5f)));
-    const int x1 = std::min(width_ - 1, int(std::floor(p.x + l.extent.x - 0.5f)));
-    const int y0 = std::max(0, int(std::ceil(p.y - l.extent.y - 0.5f)));
-    const int y1 = std::min(height_ - 1, int(std::floor(p.y + l.extent.y - 0.5f)));
+    const auto [x0, x1, y0, y1] = centres_within(p - l.extent, p + l.extent);
     if (x0 > x1 || y0 > y1) continue;
     const float depth = l.w + glm::dot(l.row_w, d) + l.depth_reach;  // the box's farthest
     for (int y = y0; y <= y1; ++y)
@@ -128,10 +131,8 @@ bool OcclusionBuffer::hidden(const Bounds3& box) const {
     float outer[3];
     for (int a = 0; a < 3; ++a) outer[a] = l.half[a] + (kMargin + l.error) * glm::length(l.normal[a]);
     const float nearest = l.w - l.depth_reach;
-    const int x0 = std::max(0, int(std::ceil(l.s0.x - l.extent.x - l.error - kMargin - 0.5f)));
-    const int x1 = std::min(width_ - 1, int(std::floor(l.s0.x + l.extent.x + l.error + kMargin - 0.5f)));
-    const int y0 = std::max(0, int(std::ceil(l.s0.y - l.extent.y - l.error - kMargin - 0.5f)));
-    const int y1 = std::min(height_ - 1, int(std::floor(l.s0.y + l.extent.y + l.error + kMargin - 0.5f)));
+    const glm::vec2 widened = l.extent + l.error + kMargin;
+    const auto [x0, x1, y0, y1] = centres_within(l.s0 - widened, l.s0 + widened);
     for (int y = y0; y <= y1; ++y) {
       const float* row = depth_.data() + size_t(y) * size_t(width_);
       for (int x = x0; x <= x1; ++x) {
@@ -159,10 +160,7 @@ bool OcclusionBuffer::hidden(const Bounds3& box) const {
   }
   // Every pixel centre the box's projection may cover (its bounding rectangle, widened by
   // the margin); outside the frame nothing can be seen.
-  const int x0 = std::max(0, int(std::ceil(lo.x - 0.5f - kMargin)));
-  const int x1 = std::min(width_ - 1, int(std::floor(hi.x - 0.5f + kMargin)));
-  const int y0 = std::max(0, int(std::ceil(lo.y - 0.5f - kMargin)));
-  const int y1 = std::min(height_ - 1, int(std::floor(hi.y - 0.5f + kMargin)));
+  const auto [x0, x1, y0, y1] = centres_within(lo - kMargin, hi + kMargin);
   for (int y = y0; y <= y1; ++y) {
     const float* row = depth_.data() + size_t(y) * size_t(width_);
     for (int x = x0; x <= x1; ++x)

@@ -1,10 +1,10 @@
-// A software occlusion buffer: per pixel, the view depth of the nearest opaque polygon a frame
+// A software occlusion buffer: per pixel, the view depth of the nearest opaque box a frame
 // has drawn so far, filled on the CPU as a walk draws front to back, and asked whether a box
 // is hidden behind what is there. Paper 002 draws every cube that passes frustum culling; in a
 // field of trees seen across the ground most of them lie behind nearer ones.
 //
 // Exact for the renderer it mirrors (MSAA off, a pixel is filled when its centre is inside a
-// triangle, depth test "nearer wins"): a polygon marks only pixel centres it covers by a
+// triangle, depth test "nearer wins"): a box marks only pixel centres its outline covers by a
 // margin, with its farthest depth; a box is hidden only when every pixel centre its
 // projection can reach holds a mark nearer than the box's nearest point. A hidden box
 // therefore cannot change the image.
@@ -37,6 +37,10 @@ class OcclusionBuffer {
 
  private:
   struct Local;
+  struct PixelRange {
+    int x0, x1, y0, y1;
+  };
+  PixelRange centres_within(const glm::vec2& lo, const glm::vec2& hi) const;
   bool linearise(const Bounds3& box, Local& local) const;
   static void outline(const glm::vec3& size, Local& local);
   void mark(int x, int y, float depth);
