@@ -9,7 +9,7 @@
 
 #include "farfield/scene/field_generator.hpp"
 #include "farfield/scene/tree_generator.hpp"
-#include "farfield/techniques/technique.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 
 namespace {
 
@@ -27,7 +27,10 @@ void BM_ColorcubeSelect(benchmark::State& state) {
   settings.values["colorcube.depth"] = "8";
   settings.values["colorcube.occlusion"] = std::to_string(state.range(0));
   auto technique = std::move(farfield::make_technique("colorcube", settings).value());
-  if (!technique->load(field()).ok()) state.SkipWithError("colorcube failed to load");
+  farfield::gpu::MemoryDevice device;
+  farfield::Progress quiet(true);
+  if (!technique->load({field(), nullptr, device, quiet}).ok())
+    state.SkipWithError("colorcube failed to load");
   // From the field's corner, looking across it at 25 degrees, like the experiment's viewer.
   farfield::View view;
   const float corner = -1.5f * 37.35f, back = 112.0f, yaw = glm::radians(25.0f);
@@ -36,10 +39,11 @@ void BM_ColorcubeSelect(benchmark::State& state) {
   view.pose.pitch_deg = -2.0f;
   farfield::DrawList list;
   for (auto _ : state) {
-    technique->select(view, {}, list);
-    benchmark::DoNotOptimize(list.proxies.data());
+    list.clear();
+    technique->select({view, 0, farfield::Region::everything(), {}}, list);
+    benchmark::DoNotOptimize(list.meshes.data());
   }
-  state.counters["proxy_triangles"] = double(list.proxy_triangle_count());
+  state.counters["mesh_triangles"] = double(list.mesh_triangle_count());
 }
 BENCHMARK(BM_ColorcubeSelect)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 

@@ -7,12 +7,12 @@
 
 #include "farfield/scene/city_generator.hpp"
 #include "farfield/techniques/stratified/stratified_options.hpp"
-#include "farfield/techniques/stratified/viewcell_tree.hpp"
+#include "farfield/spatial/viewcell_tree.hpp"
 
 namespace {
 
-using farfield::stratified::CellKey;
-using farfield::stratified::ViewcellTree;
+using farfield::CellKey;
+using farfield::ViewcellTree;
 
 const farfield::Scene& city() {
   static const farfield::Scene scene = [] {

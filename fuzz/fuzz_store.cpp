@@ -16,7 +16,7 @@
 
 #include <zstd.h>
 
-#include "farfield/store/codec.hpp"
+#include "farfield/core/codec.hpp"
 #include "farfield/store/store.hpp"
 
 namespace {

@@ -56,14 +56,19 @@ TEST(BenchGL, WritesEveryFieldAndOctreeMatchesBrute) {
     EXPECT_TRUE(t["frames"][0].contains("psnr_db"));   // frame 0 is compared
     EXPECT_FALSE(t["frames"][1].contains("psnr_db"));  // frame 1 is not
     for (const char* key : {"median_ms", "p95_ms", "p99_ms", "max_ms", "mean_triangles",
-                            "psnr_db_mean", "psnr_db_min", "peak_rss_mb", "bake_s", "store_bytes"})
+                            "psnr_db_mean", "psnr_db_min", "peak_rss_mb", "bake_s", "store_bytes",
+                            "fallback_frames", "gpu_resource_bytes", "from_bake"})
       EXPECT_TRUE(t["summary"].contains(key)) << key;
   }
   const auto& octree = json["techniques"][1];
   EXPECT_EQ(octree["name"], "octree");
   EXPECT_EQ(octree["summary"]["identical_frames"], octree["summary"]["compared_frames"]);
   EXPECT_GT(octree["summary"]["compared_frames"], 2);
-  EXPECT_TRUE(octree["summary"]["psnr_db_mean"].is_null());  // identical: infinite PSNR
+  // Identical frames count at the PSNR ceiling (one channel of one pixel off by one), never null.
+  EXPECT_EQ(octree["summary"]["psnr_db_mean"], octree["summary"]["psnr_ceiling_db"]);
+  EXPECT_GT(octree["summary"]["psnr_ceiling_db"], 90.0);
+  EXPECT_FALSE(octree["summary"].contains("psnr_db_mean_differing"));
+  EXPECT_EQ(octree["frames"][0]["psnr_db"], octree["summary"]["psnr_ceiling_db"]);
   EXPECT_LT(octree["summary"]["mean_triangles"], json["techniques"][0]["summary"]["mean_triangles"]);
   EXPECT_EQ(json["techniques"][2]["frames"][3]["draw_calls"], 1);  // raw: one draw
 

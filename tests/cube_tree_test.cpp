@@ -13,7 +13,7 @@
 #include "farfield/scene/tree_generator.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/colorcube/cube_tree.hpp"
-#include "farfield/techniques/technique.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 #include "test_util.hpp"
 
 namespace farfield {
@@ -112,9 +112,8 @@ TEST(ColorcubeGL, FarCubesStandInAndNearGeometryIsExact) {
   auto brute = make_technique("brute");
   auto cubes = make_technique("colorcube", settings);
   ASSERT_TRUE(cubes) << cubes.error().message;
-  ASSERT_TRUE((*brute)->load(scene));
-  ASSERT_TRUE((*cubes)->load(scene));
-  ASSERT_TRUE((*renderer)->set_proxies(*(*cubes)->proxies()));
+  ASSERT_TRUE(test::load_technique(**brute, scene, renderer->get()));
+  ASSERT_TRUE(test::load_technique(**cubes, scene, renderer->get()));
 
   View far;
   far.width = 160;
@@ -122,11 +121,11 @@ TEST(ColorcubeGL, FarCubesStandInAndNearGeometryIsExact) {
   far.pose = {{22.0f, 150.0f, -120.0f}, 90.0f, -50.0f};  // high above, looking at the field
   (*renderer)->set_offscreen(far.width, far.height);
   DrawList all, selected;
-  (*brute)->select(far, {}, all);
+  test::select_view(**brute, far, all);
   (*renderer)->draw(far, all);
   const Image reference = (*renderer)->capture();
-  (*cubes)->select(far, {}, selected);
-  EXPECT_GT(selected.proxies.size(), 0u);
+  test::select_view(**cubes, far, selected);
+  EXPECT_GT(selected.meshes.size(), 0u);
   EXPECT_LT(selected.triangle_count(), all.triangle_count());
   (*renderer)->draw(far, selected);
   const ImageComparison c = compare_images(reference, (*renderer)->capture());
@@ -136,10 +135,10 @@ TEST(ColorcubeGL, FarCubesStandInAndNearGeometryIsExact) {
   // where geometry is drawn (lighting per vertex on flat faces equals per pixel).
   View near = far;
   near.pose = {{1.5f, 0.5f, -2.0f}, 90.0f, 0.0f};
-  (*brute)->select(near, {}, all);
+  test::select_view(**brute, near, all);
   (*renderer)->draw(near, all);
   const Image near_reference = (*renderer)->capture();
-  (*cubes)->select(near, {}, selected);
+  test::select_view(**cubes, near, selected);
   (*renderer)->draw(near, selected);
   EXPECT_GT(compare_images(near_reference, (*renderer)->capture()).psnr_db, 30.0);
 }
@@ -175,19 +174,18 @@ TEST(ColorcubeGL, ALargeTriangleIsDrawnWhereverItReaches) {
   ASSERT_TRUE(settings.add("colorcube.depth=5"));
   auto brute = make_technique("brute");
   auto cubes = make_technique("colorcube", settings);
-  ASSERT_TRUE((*brute)->load(scene));
-  ASSERT_TRUE((*cubes)->load(scene));
-  ASSERT_TRUE((*renderer)->set_proxies(*(*cubes)->proxies()));
+  ASSERT_TRUE(test::load_technique(**brute, scene, renderer->get()));
+  ASSERT_TRUE(test::load_technique(**cubes, scene, renderer->get()));
   View view;
   view.width = 160;
   view.height = 120;
   view.pose = {{90.0f, 2.0f, 90.0f}, 45.0f, -10.0f};  // at a corner, looking out over the edge
   (*renderer)->set_offscreen(view.width, view.height);
   DrawList list;
-  (*brute)->select(view, {}, list);
+  test::select_view(**brute, view, list);
   (*renderer)->draw(view, list);
   const Image reference = (*renderer)->capture();
-  (*cubes)->select(view, {}, list);
+  test::select_view(**cubes, view, list);
   (*renderer)->draw(view, list);
   const ImageComparison c = compare_images(reference, (*renderer)->capture());
   EXPECT_TRUE(c.identical()) << c.differing_pixels << " pixels differ";
@@ -272,7 +270,7 @@ TEST(ColorcubeGL, OcclusionAndDroppedInnerFacesLeaveTheImageUnchanged) {
     EXPECT_TRUE(settings.add(std::string("colorcube.inner_faces=") + inner));
     auto t = make_technique("colorcube", settings);
     EXPECT_TRUE(t) << t.error().message;
-    EXPECT_TRUE((*t)->load(scene));
+    EXPECT_TRUE(test::load_technique(**t, scene, renderer->get()));
     return std::move(*t);
   };
   auto paper = make("0", "keep"), occluded = make("1", "keep"), culled = make("1", "drop");
@@ -300,19 +298,16 @@ TEST(ColorcubeGL, OcclusionAndDroppedInnerFacesLeaveTheImageUnchanged) {
     const glm::vec3 to = glm::normalize(centre - view.pose.position);
     view.pose.yaw_deg = glm::degrees(std::atan2(to.z, to.x));
     view.pose.pitch_deg = glm::degrees(std::asin(to.y));
-    (*renderer)->set_proxies(*paper->proxies());
-    paper->select(view, {}, list);
-    paper_triangles += list.proxy_triangle_count();
+    test::select_view(*paper, view, list);
+    paper_triangles += list.mesh_triangle_count();
     (*renderer)->draw(view, list);
     const Image reference = (*renderer)->capture();
-    (*renderer)->set_proxies(*occluded->proxies());
-    occluded->select(view, {}, list);
-    occluded_triangles += list.proxy_triangle_count();
+    test::select_view(*occluded, view, list);
+    occluded_triangles += list.mesh_triangle_count();
     (*renderer)->draw(view, list);
     EXPECT_EQ(compare_images(reference, (*renderer)->capture()).differing_pixels, 0u) << "view " << k;
-    (*renderer)->set_proxies(*culled->proxies());
-    culled->select(view, {}, list);
-    culled_triangles += list.proxy_triangle_count();
+    test::select_view(*culled, view, list);
+    culled_triangles += list.mesh_triangle_count();
     (*renderer)->draw(view, list);
     EXPECT_LE(compare_images(reference, (*renderer)->capture()).differing_pixels, 4u) << "view " << k;
   }

@@ -7,7 +7,7 @@
 #include "farfield/core/frustum.hpp"
 #include "farfield/spatial/octree.hpp"
 #include "farfield/techniques/object_set.hpp"
-#include "farfield/techniques/technique.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 #include "test_util.hpp"
 
 namespace farfield {
@@ -181,8 +181,8 @@ TEST(Techniques, OctreeKeepsEveryVisibleObjectAndDropsMostHiddenOnes) {
   auto brute = make_technique("brute");
   auto octree = make_technique("octree");
   ASSERT_TRUE(brute && octree);
-  ASSERT_TRUE((*brute)->load(scene));
-  ASSERT_TRUE((*octree)->load(scene));
+  ASSERT_TRUE(test::load_technique(**brute, scene));
+  ASSERT_TRUE(test::load_technique(**octree, scene));
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> pos(0, 90), angle(-180, 180), pitch(-30, 30);
   DrawList all, culled;
@@ -190,8 +190,8 @@ TEST(Techniques, OctreeKeepsEveryVisibleObjectAndDropsMostHiddenOnes) {
   for (int i = 0; i < 100; ++i) {
     View v;
     v.pose = {{pos(rng), 0.5f, pos(rng)}, angle(rng), pitch(rng)};
-    (*brute)->select(v, {}, all);
-    (*octree)->select(v, {}, culled);
+    test::select_view(**brute, v, all);
+    test::select_view(**octree, v, culled);
     EXPECT_EQ(all.triangle_count(), scene.triangle_count());
     EXPECT_LE(culled.triangle_count(), all.triangle_count());
     // Every object with a visible point is selected.

@@ -121,37 +121,42 @@ TEST_F(RendererGL, BackgroundIsSkyAndBoxesAreNot) {
   for (int i = 0; i < 4; ++i) EXPECT_NE(at(image, pixel_of(front_, front_face(i))), s) << i;
 }
 
-// Far-field quads (DrawList::far_quads) are a backdrop: a quad between the eye and box 0
-// still shows only where no geometry is; placed in the world (bird's-eye) it hides the box.
-// Uploads fill texture slots; alpha below one and opacity blend.
+// Backdrop quads (DrawList::backdrop) fill only what geometry leaves: a quad between the eye
+// and box 0 still shows only where no geometry is; placed in the world (bird's-eye) it hides
+// the box. Uploads fill textures named by handle; alpha below one and opacity blend.
 TEST_F(RendererGL, FarQuadsFillOnlyWhatGeometryLeaves) {
   const std::vector<uint8_t> green(4 * 4 * 3, 0), half(4 * 4 * 4, 0);
   std::vector<uint8_t> g = green, h = half;
   for (size_t i = 1; i < g.size(); i += 3) g[i] = 255;
   for (size_t i = 0; i < h.size(); i += 4) h[i + 2] = 255, h[i + 3] = 128;  // blue, half covered
   DrawList list = list_of(scene_, {0});
-  list.uploads = {{0, 4, 4, 3, g.data()}, {7, 4, 4, 4, h.data()}};
+  const TextureHandle green_texture = renderer_->create_texture();
+  const TextureHandle blue_texture = renderer_->create_texture();
+  list.uploads = {{green_texture, 4, 4, 3, g.data(), nullptr},
+                  {blue_texture, 4, 4, 4, h.data(), nullptr}};
   // A wide quad at z = -1, in front of box 0 (front face at z = 0), facing the eye.
   const std::array<glm::vec3, 4> wall = {glm::vec3{-20, 20, -1}, glm::vec3{20, 20, -1},
                                          glm::vec3{20, -20, -1}, glm::vec3{-20, -20, -1}};
-  list.far_quads = {{wall, 0, 1.0f}};
+  list.backdrop = {{wall, green_texture, 1.0f}};
   const Image backdrop = render(front_, list);
   EXPECT_EQ(at(backdrop, {0, 0}), (Rgb{0, 255, 0}));  // the quad where the sky was
   const Rgb box = at(backdrop, pixel_of(front_, front_face(0)));
   EXPECT_GT(box[0], 100);  // box 0 (red) stays in front
   EXPECT_LT(box[1], 50);
 
-  list.quads_in_world = true;  // at its place: in front of the box
+  list.backdrop_mode = BackdropMode::in_world;  // at its place: in front of the box
   const Image world = render(front_, list);
   EXPECT_EQ(at(world, pixel_of(front_, front_face(0))), (Rgb{0, 255, 0}));
 
   // The half-covered blue quad drawn over the green one, at half opacity: a quarter blue.
-  list.quads_in_world = false;
-  list.uploads.clear();  // the slots keep their images
-  list.far_quads = {{wall, 0, 1.0f}, {wall, 7, 0.5f}};
+  list.backdrop_mode = BackdropMode::far;
+  list.uploads.clear();  // the textures keep their images
+  list.backdrop = {{wall, green_texture, 1.0f}, {wall, blue_texture, 0.5f}};
   const Rgb mixed = at(render(front_, list), {0, 0});
   EXPECT_NEAR(mixed[1], 191, 3);
   EXPECT_NEAR(mixed[2], 64, 3);
+  renderer_->free(green_texture);
+  renderer_->free(blue_texture);
 }
 
 TEST_F(RendererGL, FacesTowardALightAreBrighterThanFacesTurnedAway) {

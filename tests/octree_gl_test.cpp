@@ -8,7 +8,8 @@
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/scene/city_generator.hpp"
-#include "farfield/techniques/technique.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
+#include "test_util.hpp"
 
 namespace farfield {
 namespace {
@@ -25,8 +26,8 @@ TEST(OctreeGL, FramesEqualBruteOnRandomCityViews) {
   ASSERT_TRUE(renderer) << renderer.error().message;
   auto brute = make_technique("brute");
   auto octree = make_technique("octree");
-  ASSERT_TRUE((*brute)->load(*city));
-  ASSERT_TRUE((*octree)->load(*city));
+  ASSERT_TRUE(test::load_technique(**brute, *city, renderer->get()));
+  ASSERT_TRUE(test::load_technique(**octree, *city, renderer->get()));
 
   const Bounds3 b = city->bounds;
   std::mt19937 rng(2024);
@@ -45,10 +46,10 @@ TEST(OctreeGL, FramesEqualBruteOnRandomCityViews) {
     view.pose = {{x(rng), street ? 1.9f : air_height(rng), z(rng)}, yaw(rng),
                  street ? street_pitch(rng) : air_pitch(rng)};
     (*renderer)->set_offscreen(view.width, view.height);
-    (*brute)->select(view, {}, all);
+    test::select_view(**brute, view, all);
     (*renderer)->draw(view, all);
     const Image reference = (*renderer)->capture();
-    (*octree)->select(view, {}, culled);
+    test::select_view(**octree, view, culled);
     (*renderer)->draw(view, culled);
     const Image image = (*renderer)->capture();
     const ImageComparison c = compare_images(reference, image);

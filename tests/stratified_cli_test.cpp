@@ -110,7 +110,7 @@ TEST(StratifiedCli, BakeRefusesLimitsThatSelectNothing) {
            {"stratified.path=missing.json", "missing.json"},
            {"stratified.band=100,103 --set stratified.path=street.json", "never enters"},
            {"stratified.resolution=100000", "stratified.resolution"},
-           {"stratified.sizing=loose", "strict or paper"},
+           {"stratified.sizing=loose", "strict,paper"},
        }) {
     auto r = run_farfield("bake city.ffscene -t stratified -q --set " + setting + " --out p.ffpack",
                           cwd);

@@ -9,13 +9,14 @@
 #include <set>
 
 #include "farfield/core/camera_path.hpp"
+#include "farfield/eval/bake_run.hpp"
 #include "farfield/eval/image_metrics.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/scene/city_generator.hpp"
 #include "farfield/scene/path_generator.hpp"
 #include "farfield/store/store.hpp"
-#include "farfield/techniques/technique.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 #include "test_util.hpp"
 
 namespace farfield {
@@ -49,12 +50,8 @@ std::unique_ptr<Walk> bake_walk(const std::vector<std::string>& extra = {}) {
                                "stratified.path=" + path_file})
     EXPECT_TRUE(settings.add(s));
   for (const std::string& s : extra) EXPECT_TRUE(settings.add(s));
-  auto technique = make_technique("stratified", settings);
-  EXPECT_TRUE(technique);
   walk->pack = walk->dir.file("walk.ffpack");
-  auto store = Store::open(walk->pack, Store::Mode::kReadWrite);
-  EXPECT_TRUE(store);
-  auto baked = (*technique)->bake(walk->city, *store, quiet);
+  auto baked = run_bake(walk->city, "stratified", settings, walk->pack, quiet);
   EXPECT_TRUE(baked) << baked.error().message;
   return walk;
 }
@@ -91,11 +88,12 @@ TEST(StratifiedGL, WalkMatchesBruteWithinTheBoundAndCrossesViewcells) {
   gpu::Renderer* renderer = d.renderer.get();
   auto& store = d.store;
   auto brute = make_technique("brute");
-  ASSERT_TRUE((*brute)->load(walk->city));
+  ASSERT_TRUE(test::load_technique(**brute, walk->city, renderer));
   auto stratified = make_technique("stratified");
   ASSERT_TRUE(stratified);
-  ASSERT_TRUE((*stratified)->load_baked(walk->city, *store));
-  EXPECT_FALSE((*stratified)->load(walk->city));  // needs its bake
+  ASSERT_TRUE(test::load_technique(**stratified, walk->city, renderer, &*store));
+  auto unbaked = make_technique("stratified");
+  EXPECT_FALSE(test::load_technique(**unbaked, walk->city, renderer));  // needs its bake
 
   DrawList all, list;
   double psnr_sum = 0;
@@ -107,13 +105,13 @@ TEST(StratifiedGL, WalkMatchesBruteWithinTheBoundAndCrossesViewcells) {
     view.height = 192;
     view.pose = walk->path.frames[f];
     renderer->set_offscreen(view.width, view.height);
-    (*stratified)->select(view, {}, list);
-    ASSERT_FALSE(list.far_quads.empty()) << "frame " << f;
-    near_triangles += list.triangle_count() - 2 * list.far_quads.size();
+    test::select_view(**stratified, view, list);
+    ASSERT_FALSE(list.backdrop.empty()) << "frame " << f;
+    near_triangles += list.triangle_count() - 2 * list.backdrop.size();
     renderer->draw(view, list);
     if (f % 6 != 0) continue;
     const Image image = renderer->capture();
-    (*brute)->select(view, {}, all);
+    test::select_view(**brute, view, all);
     renderer->draw(view, all);
     const ImageComparison c = compare_images(renderer->capture(), image);
     psnr_sum += std::min(c.psnr_db, 60.0);
@@ -146,15 +144,15 @@ TEST(StratifiedGL, RenderStylesSplitTheFrame) {
     ASSERT_TRUE(settings.add("stratified.style=" + style));
     auto t = make_technique("stratified", settings);
     ASSERT_TRUE(t);
-    ASSERT_TRUE((*t)->load_baked(walk->city, *store));
-    (*t)->select(view, {}, lists[style]);
+    ASSERT_TRUE(test::load_technique(**t, walk->city, nullptr, &*store));
+    test::select_view(**t, view, lists[style]);
   }
   EXPECT_EQ(lists["near"].opaque.size(), lists["full"].opaque.size());
-  EXPECT_TRUE(lists["near"].far_quads.empty());
+  EXPECT_TRUE(lists["near"].backdrop.empty());
   EXPECT_TRUE(lists["far-texture"].opaque.empty());
-  EXPECT_EQ(lists["far-texture"].far_quads.size(), lists["full"].far_quads.size());
+  EXPECT_EQ(lists["far-texture"].backdrop.size(), lists["full"].backdrop.size());
   EXPECT_GT(lists["far-objects"].triangle_count(), lists["near"].triangle_count());
-  EXPECT_TRUE(lists["far-objects"].far_quads.empty());
+  EXPECT_TRUE(lists["far-objects"].backdrop.empty());
   EXPECT_EQ(lists["brute"].triangle_count(), walk->city.triangle_count());
 }
 
@@ -169,11 +167,11 @@ TEST(StratifiedGL, TwoShellsNestTheirFarFields) {
   gpu::Renderer* renderer = d.renderer.get();
   auto& store = d.store;
   auto t = make_technique("stratified");
-  ASSERT_TRUE((*t)->load_baked(walk->city, *store));
+  ASSERT_TRUE(test::load_technique(**t, walk->city, renderer, &*store));
   EXPECT_DOUBLE_EQ(figure(**t, "shell1_box_m"), 180.0);
   EXPECT_GT(figure(**t, "shell1_viewcell_m"), figure(**t, "shell0_viewcell_m"));
   auto brute = make_technique("brute");
-  ASSERT_TRUE((*brute)->load(walk->city));
+  ASSERT_TRUE(test::load_technique(**brute, walk->city, renderer));
   DrawList list, all;
   double psnr_sum = 0;
   int compared = 0;
@@ -183,15 +181,16 @@ TEST(StratifiedGL, TwoShellsNestTheirFarFields) {
     view.height = 192;
     view.pose = walk->path.frames[f];
     renderer->set_offscreen(view.width, view.height);
-    (*t)->select(view, {}, list);
-    // Slots come in sets of six sides, one set per viewcell: two viewcells, the outer first.
+    test::select_view(**t, view, list);
+    // Textures come in sets of six sides, one set per viewcell, made in order by this
+    // fresh renderer (handles 1, 2, ...): two viewcells, the outer first.
     std::set<uint32_t> sets;
-    for (const TexturedQuad& q : list.far_quads) sets.insert(q.slot / 6);
+    for (const TexturedQuad& q : list.backdrop) sets.insert((q.texture.id - 1) / 6);
     EXPECT_EQ(sets.size(), 2u) << "frame " << f;
     for (const TextureUpload& u : list.uploads) EXPECT_TRUE(u.channels == 3 || u.channels == 4);
     renderer->draw(view, list);
     const Image image = renderer->capture();
-    (*brute)->select(view, {}, all);
+    test::select_view(**brute, view, all);
     renderer->draw(view, all);
     psnr_sum += compare_images(renderer->capture(), image).psnr_db;
     ++compared;
@@ -208,14 +207,14 @@ TEST(StratifiedGL, DeltaCodedPngBakeDrawsTheSameAsPlainPng) {
   auto b = Store::open(delta->pack, Store::Mode::kRead);
   ASSERT_TRUE(a && b);
   auto ta = make_technique("stratified"), tb = make_technique("stratified");
-  ASSERT_TRUE((*ta)->load_baked(plain->city, *a));
-  ASSERT_TRUE((*tb)->load_baked(delta->city, *b));
+  ASSERT_TRUE(test::load_technique(**ta, plain->city, nullptr, &*a));
+  ASSERT_TRUE(test::load_technique(**tb, delta->city, nullptr, &*b));
   DrawList la, lb;
   for (size_t f = 0; f < plain->path.frames.size(); f += 7) {
     View view;
     view.pose = plain->path.frames[f];
-    (*ta)->select(view, {}, la);
-    (*tb)->select(view, {}, lb);
+    test::select_view(**ta, view, la);
+    test::select_view(**tb, view, lb);
     ASSERT_EQ(la.uploads.size(), lb.uploads.size());
     for (size_t i = 0; i < la.uploads.size(); ++i) {
       const TextureUpload &x = la.uploads[i], &y = lb.uploads[i];
@@ -245,16 +244,16 @@ TEST(StratifiedGL, DamagedBlobIsNamedWhileWalking) {
   auto store = Store::open(walk->pack, Store::Mode::kRead);
   ASSERT_TRUE(store);
   auto t = make_technique("stratified");
-  ASSERT_TRUE((*t)->load_baked(walk->city, *store));
+  ASSERT_TRUE(test::load_technique(**t, walk->city, nullptr, &*store));
   View view;
   view.pose = walk->path.frames[0];
   DrawList list;
-  (*t)->select(view, {}, list);
+  test::select_view(**t, view, list);
   const std::string failure = (*t)->failure();
   EXPECT_NE(failure.find(walk->pack), std::string::npos) << failure;
   EXPECT_NE(failure.find("/face0' is corrupted"), std::string::npos) << failure;
   // The frame is still drawn, with every visible object instead of the far field.
-  EXPECT_TRUE(list.far_quads.empty());
+  EXPECT_TRUE(list.backdrop.empty());
   EXPECT_GT(list.triangle_count(), 0u);
 }
 

@@ -11,9 +11,10 @@
 
 #include "farfield/techniques/stratified/box_faces.hpp"
 #include "farfield/techniques/stratified/stratified_options.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 #include "farfield/techniques/stratified/stratified_pack.hpp"
 #include "farfield/techniques/stratified/viewcell_analysis.hpp"
-#include "farfield/techniques/stratified/viewcell_tree.hpp"
+#include "farfield/spatial/viewcell_tree.hpp"
 #include "test_util.hpp"
 
 namespace farfield::stratified {
@@ -216,10 +217,20 @@ TEST(StratifiedErrorBound, PaperSizingExceedsAlphaSlightlyIn3D) {
   EXPECT_LT(r.worst_angle, 1.2 * alpha);
 }
 
+// The options from settings checked by the one parser (the stratified descriptor).
+Result<StratifiedOptions> options_of(const std::vector<std::pair<std::string, std::string>>& kv) {
+  TechniqueSettings settings;
+  for (const auto& [key, value] : kv)
+    if (auto ok = settings.add("stratified." + key + "=" + value); !ok) return ok.error();
+  auto values = parse_settings(**find_technique("stratified"), settings);
+  if (!values) return values.error();
+  return stratified_options(*values);
+}
+
 TEST(StratifiedOptions, ParsesAndRefusesWithTheSettingsName) {
-  auto o = stratified_options({{"alpha", "1.5"}, {"box", "300"}, {"codec", "png"},
-                               {"delta", "1"}, {"style", "far-texture"}, {"resolution", "256"}});
-  ASSERT_TRUE(o);
+  auto o = options_of({{"alpha", "1.5"}, {"box", "300"}, {"codec", "png"},
+                       {"delta", "1"}, {"style", "far-texture"}, {"resolution", "256"}});
+  ASSERT_TRUE(o) << o.error().message;
   EXPECT_EQ(o->alpha_deg, 1.5);
   EXPECT_EQ(o->box, 300);
   EXPECT_EQ(o->codec.codec, Codec::kPng);
@@ -231,17 +242,17 @@ TEST(StratifiedOptions, ParsesAndRefusesWithTheSettingsName) {
            {"alpha", "x", "not a number"},
            {"resolution", "3", "stratified.resolution"},
            {"resolution", "100.5", "whole number"},
-           {"codec", "gif", "jpeg or png"},
+           {"codec", "gif", "jpeg,png"},
            {"style", "wire", "stratified.style"},
            {"limit", "1,2,3", "4 comma-separated"},
-           {"sizing", "loose", "strict or paper"},
-           {"bogus", "1", "unknown setting"},
+           {"sizing", "loose", "strict,paper"},
+           {"bogus", "1", "no such setting"},
        }) {
-    auto bad = stratified_options({{key, value}});
+    auto bad = options_of({{key, value}});
     ASSERT_FALSE(bad) << key << "=" << value;
     EXPECT_NE(bad.error().message.find(words), std::string::npos) << bad.error().message;
   }
-  auto jpeg_delta = stratified_options({{"delta", "1"}});
+  auto jpeg_delta = options_of({{"delta", "1"}});
   ASSERT_FALSE(jpeg_delta);
   EXPECT_NE(jpeg_delta.error().message.find("codec=png"), std::string::npos);
 }

@@ -12,6 +12,27 @@
 
 namespace farfield::test {
 
+Result<void> load_technique(Technique& technique, const Scene& scene, gpu::Device* device,
+                            const Store* store) {
+  static gpu::MemoryDevice memory;
+  Progress quiet(true);
+  return technique.load({scene, store, device ? *device : memory, quiet});
+}
+
+void select_view(Technique& technique, const View& view, DrawList& list, uint64_t frame) {
+  list.clear();
+  technique.select({view, frame, Region::everything(), {}}, list);
+}
+
+TechniqueSettings settings_of(std::initializer_list<const char*> assignments) {
+  TechniqueSettings settings;
+  for (const char* a : assignments) {
+    const Result<void> ok = settings.add(a);
+    if (!ok) std::fprintf(stderr, "settings_of: %s\n", ok.error().message.c_str());
+  }
+  return settings;
+}
+
 TempDir::TempDir() {
   static std::atomic<int> counter{0};
   path_ = std::filesystem::temp_directory_path() /

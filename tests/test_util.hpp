@@ -6,7 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "farfield/gpu/device.hpp"
 #include "farfield/scene/scene.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 
 namespace farfield::test {
 
@@ -26,6 +28,15 @@ class TempDir {
 
 // `boxes` unit cubes along X, one object each, alternating an opaque and a transparent material.
 Scene make_box_row(int boxes);
+
+// Loads a technique for `scene` with its resources on `device` (the renderer of a GL test; a
+// MemoryDevice that lives as long as the tests when null), from `store` when given.
+Result<void> load_technique(Technique& technique, const Scene& scene,
+                            gpu::Device* device = nullptr, const Store* store = nullptr);
+// One frame's selection of the whole scene into `list`, cleared first.
+void select_view(Technique& technique, const View& view, DrawList& list, uint64_t frame = 0);
+// Settings from "NAME.KEY=VALUE" assignments, which must be well formed.
+TechniqueSettings settings_of(std::initializer_list<const char*> assignments);
 
 struct CommandResult {
   int exit_status = -1;

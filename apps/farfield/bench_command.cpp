@@ -5,7 +5,7 @@
 #include "farfield/core/camera_path.hpp"
 #include "farfield/eval/bench.hpp"
 #include "farfield/scene/scene_file.hpp"
-#include "farfield/techniques/technique.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 
 namespace farfield::cli {
 
@@ -18,11 +18,11 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
     bool quiet = false, no_plot = false;
   };
   auto s = std::make_shared<Settings>();
-  std::string technique_help = "Techniques to compare, comma-separated; brute always runs first "
-                               "as the reference. 'raw' adds the protocol's bound (every triangle "
-                               "in one draw). Known:";
-  for (const TechniqueInfo& t : known_techniques())
-    technique_help += "\n  " + std::string(t.name) + ": " + std::string(t.summary);
+  const std::string technique_help = "Techniques to compare, comma-separated; brute always runs "
+                                     "first as the reference. 'raw' adds the protocol's bound "
+                                     "(every triangle in one draw). Known, with their settings "
+                                     "(--set NAME.KEY=VALUE):\n" +
+                                     techniques_help();
   CLI::App* cmd = root.add_subcommand(
       "bench", "Play a camera path headless for each technique; write DIR/bench.json, sample "
                "frames, difference images against brute and a frame-time plot");
@@ -50,6 +50,16 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
                   "Also save a bird's-eye picture of each sample frame from this many metres "
                   "above the eye (frustum in red; stratified adds its viewcell and box)")
       ->check(CLI::Range(0.0f, 100000.0f));
+  cmd->add_option("--budget-ms", s->bench.budget_ms,
+                  "Frame-time budget for every technique, ms (0: none); techniques that hold a "
+                  "frame time read it")
+      ->check(CLI::Range(0.0, 10000.0));
+  cmd->add_flag("--interleave", s->bench.interleave,
+                "Time the techniques frame by frame (frame f of each, then f+1), so that drift "
+                "on a shared machine falls on all alike; peak_rss_mb is then the process's");
+  cmd->add_flag("--pipelined", s->bench.pipelined,
+                "Run each technique's path a second time with selection one frame ahead on a "
+                "second thread; report its frame time and latency beside the first run's");
   cmd->add_flag("--no-plot", s->no_plot, "Skip the frame-time plot (needs python3-matplotlib)");
   cmd->add_option("--out,-o", s->bench.out_dir, "Output folder")->required();
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");

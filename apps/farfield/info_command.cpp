@@ -1,4 +1,5 @@
 // farfield info FILE
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -7,7 +8,8 @@
 #include "farfield/scene/scene_file.hpp"
 #include "farfield/scene/scene_summary.hpp"
 #include "farfield/store/store.hpp"
-#include "farfield/techniques/stratified/stratified_pack.hpp"
+#include "farfield/store/bake_record.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 
 namespace farfield::cli {
 
@@ -32,19 +34,23 @@ int describe_pack(const std::string& path) {
   for (const auto& [name, t] : techniques)
     std::printf("baked:       %-12s %8llu blobs %14llu bytes\n", name.c_str(),
                 (unsigned long long)t.first, (unsigned long long)t.second);
-  for (const auto& [key, value] : *meta) std::printf("%-24s %s\n", (key + ":").c_str(), value.c_str());
-  if (techniques.count("stratified")) {
-    auto text = store->get_meta(stratified::kParamsKey);
-    if (!text) return fail(text.error().message);
-    if (*text) {
-      auto params = stratified::parse_params(**text);
-      if (!params) return fail(path + ": " + params.error().message);
-      for (size_t s = 0; s < params->shells.size(); ++s) {
-        auto cells = stratified::baked_cells(*store, int(s));
-        if (!cells) return fail(cells.error().message);
-        std::printf("stratified shell %zu:      %zu viewcells baked, v %.2f m, box %.1f m\n", s,
-                    cells->size(), params->shells[s].viewcell, params->shells[s].box);
-      }
+  for (const auto& [key, value] : *meta)
+    if (!key.ends_with("/bake")) std::printf("%-24s %s\n", (key + ":").c_str(), value.c_str());
+  for (const TechniqueDescriptor* d : technique_descriptors()) {
+    auto record = read_bake_record(*store, d->name);
+    if (!record) return fail(record.error().message);
+    if (!*record) continue;
+    const BakeRecord& r = **record;
+    std::printf("%s bake:%*s format %d%s, %.2f s, scene %016llx\n", r.technique.c_str(),
+                int(std::max<size_t>(1, 17 - r.technique.size())), "", r.format,
+                r.format == d->bake_format ? "" : " (this farfield reads another: re-bake)",
+                r.bake_s, (unsigned long long)r.scene);
+    for (const auto& [key, value] : r.settings)
+      std::printf("  %s.%s = %s\n", r.technique.c_str(), key.c_str(), value.c_str());
+    if (d->describe_bake) {
+      auto text = d->describe_bake(*store);
+      if (!text) return fail(text.error().message);
+      std::printf("%s", text->c_str());
     }
   }
   return 0;

@@ -17,9 +17,10 @@
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/gpu/window.hpp"
 #include "farfield/scene/scene_file.hpp"
-#include "farfield/eval/birdseye.hpp"
+#include "farfield/eval/frame_loop.hpp"
+#include "farfield/eval/run_plan.hpp"
 #include "farfield/store/store.hpp"
-#include "farfield/techniques/technique.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 
 namespace farfield::cli {
 
@@ -30,6 +31,7 @@ struct ViewSettings {
   std::vector<std::string> settings;
   int width = 1024, height = 768, frames = 0;
   float hfov_deg = 90.0f;
+  float budget_ms = 0.0f;
   float birdseye_height = 0.0f;  // > 0: start in the bird's-eye view
 };
 
@@ -80,37 +82,38 @@ int run_viewer(const ViewSettings& s) {
   TechniqueSettings settings;
   for (const std::string& setting : s.settings)
     if (auto ok = settings.add(setting); !ok) return fail(ok.error().message);
+  // Everything asked is checked before the window opens: the technique at start (its bake
+  // included), every setting, and the file --record writes.
+  if (auto plan = plan_run({s.technique}, settings, store ? &*store : nullptr, *scene, true); !plan)
+    return fail(plan.error().message);
+  if (!s.record.empty())
+    if (auto ok = check_writable_file(s.record); !ok) return fail(ok.error().message);
   // Techniques are made for every name (so bad settings fail now) but loaded when first shown:
-  // some bake at load.
-  const auto infos = known_techniques();
+  // some build their structures at load.
+  const auto descriptors = technique_descriptors();
   std::vector<std::unique_ptr<Technique>> techniques;
-  std::vector<bool> loaded(infos.size(), false);
-  size_t current = infos.size();
-  for (const TechniqueInfo& info : infos) {
-    auto t = make_technique(info.name, settings);
+  std::vector<bool> loaded(descriptors.size(), false);
+  size_t current = descriptors.size();
+  for (const TechniqueDescriptor* d : descriptors) {
+    auto t = make_technique(d->name, settings);
     if (!t) return fail(t.error().message);
-    if (info.name == s.technique) current = techniques.size();
+    if (d->name == s.technique) current = techniques.size();
     techniques.push_back(std::move(*t));
   }
-  if (current == infos.size()) return fail(make_technique(s.technique).error().message);
 
   auto window = gpu::Window::create(s.width, s.height, "farfield: " + s.scene);
   if (!window) return fail(window.error().message);
   auto renderer = gpu::Renderer::create(*scene);
   if (!renderer) return fail(renderer.error().message);
-  size_t shown = infos.size();  // the technique whose proxies are uploaded
+  FrameLoop loop(**renderer);
   // A technique that cannot load (stratified without its bake) stays unavailable, with why.
-  std::vector<std::string> unavailable(infos.size());
+  std::vector<std::string> unavailable(descriptors.size());
+  Progress quiet(true);
   auto show = [&](size_t t) -> Result<void> {
-    if (!loaded[t]) {
-      if (auto ok = store ? techniques[t]->load_baked(*scene, *store) : techniques[t]->load(*scene); !ok)
-        return ok;
-      loaded[t] = true;
-    }
-    if (t == shown) return {};
-    const ProxyMesh* proxies = techniques[t]->proxies();
-    if (auto ok = (*renderer)->set_proxies(proxies ? *proxies : ProxyMesh{}); !ok) return ok;
-    shown = t;
+    if (loaded[t]) return {};
+    if (auto ok = techniques[t]->load({*scene, store ? &*store : nullptr, **renderer, quiet}); !ok)
+      return ok;
+    loaded[t] = true;
     return {};
   };
 
@@ -130,8 +133,8 @@ int run_viewer(const ViewSettings& s) {
   const float birdseye_height = birdseye ? s.birdseye_height : kDefaultBirdseyeHeight;
   std::string notice;
   double smoothed_ms = 0.0;
-  DrawList list;
-  gpu::FrameStats stats;
+  FrameTiming stats;
+  float budget_ms = s.budget_ms;
   auto last = std::chrono::steady_clock::now();
   int exit_status = 0;
   while (!(*window)->should_close()) {
@@ -178,16 +181,9 @@ int run_viewer(const ViewSettings& s) {
       current = before;
       continue;
     }
-    techniques[current]->select(view, FrameBudget{}, list);
-    if (birdseye) {
-      // paper 000, Fig. 5-2: the same selection from above, frustum in red.
-      techniques[current]->annotate(view, list);
-      add_frustum_lines(view, birdseye_height * 0.5f, list);
-      stats = (*renderer)->draw(birdseye_view(view, birdseye_height), list);
-    } else {
-      stats = (*renderer)->draw(view, list);
-    }
-    glFinish();
+    // paper 000, Fig. 5-2: in the bird's-eye view the same selection from above.
+    stats = loop.run(*techniques[current], view, uint64_t(frame), next_budget(budget_ms, stats),
+                     birdseye ? birdseye_height : 0.0f);
     if (std::string failure = techniques[current]->failure(); !failure.empty()) {
       exit_status = fail(failure);
       break;
@@ -211,8 +207,9 @@ int run_viewer(const ViewSettings& s) {
       if (t + 1 < techniques.size()) ImGui::SameLine();
     }
     current = size_t(selected);
-    ImGui::Text("frame %.1f ms (%.0f fps)   gpu %.1f ms", smoothed_ms, 1000.0 / smoothed_ms,
-                stats.gpu_ms);
+    ImGui::Text("frame %.1f ms (%.0f fps)   selection %.2f ms", smoothed_ms,
+                1000.0 / smoothed_ms, stats.select_ms);
+    ImGui::SliderFloat("budget ms (0: none)", &budget_ms, 0.0f, 100.0f, "%.0f");
     ImGui::Text("triangles %llu   draw calls %llu", (unsigned long long)stats.triangles,
                 (unsigned long long)stats.draw_calls);
     ImGui::Text("at (%.1f, %.1f, %.1f)  heading %.0f  pitch %.0f", pose.position.x,
@@ -281,6 +278,9 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
                   "Start in the bird's-eye view from this many metres above the eye (B toggles; "
                   "300 m when not given)")
       ->check(CLI::Range(0.0f, 100000.0f));
+  cmd->add_option("--budget-ms", s->budget_ms,
+                  "Frame-time budget for every technique, ms (0: none); a slider changes it")
+      ->check(CLI::Range(0.0f, 10000.0f));
   cmd->add_option("--record", s->record, "Write the poses of the session as a camera path on exit");
   commands.push_back({cmd, [s] { return run_viewer(*s); }});
 }

@@ -1,25 +1,24 @@
 #include "farfield/eval/bench.hpp"
 
-#include <sys/resource.h>
+#include <malloc.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <optional>
 
-#include <epoxy/gl.h>
-
 #include "bench_report.hpp"
 #include "farfield/core/atomic_file.hpp"
+#include "farfield/eval/frame_loop.hpp"
 #include "farfield/eval/image_metrics.hpp"
+#include "farfield/eval/run_plan.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/store/store.hpp"
-#include "farfield/techniques/technique.hpp"
-#include "farfield/eval/birdseye.hpp"
 #include "frame_plot.hpp"
 
 namespace farfield {
@@ -28,14 +27,25 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double ms_since(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-double peak_rss_mb() {
-  rusage usage{};
-  ::getrusage(RUSAGE_SELF, &usage);
-  return double(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+// Resident memory from /proc/self/status: "VmRSS" now, "VmHWM" the peak since the last reset.
+double status_mb(const char* field) {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.compare(0, std::strlen(field), field) == 0 && line[std::strlen(field)] == ':')
+      return std::strtod(line.c_str() + std::strlen(field) + 1, nullptr) / 1024.0;  // kB
+  return 0.0;
+}
+
+// Starts a new peak (Linux: writing 5 to clear_refs resets VmHWM to the current RSS), after
+// handing freed heap back to the system so that an earlier technique's peak is not counted.
+void reset_peak_memory() {
+  ::malloc_trim(0);
+  std::ofstream("/proc/self/clear_refs") << "5";
 }
 
 Result<void> check_options(const BenchOptions& o, const CameraPath& path) {
@@ -46,10 +56,11 @@ Result<void> check_options(const BenchOptions& o, const CameraPath& path) {
     return make_error("--hfov must be within (1, 179) degrees (got ", std::to_string(o.hfov_deg), ")");
   if (path.frames.empty()) return make_error("the camera path has no frames");
   if (o.techniques.empty()) return make_error("--technique names no technique");
-  for (const std::string& name : o.techniques) {
-    if (name == kRawBound) continue;
-    if (auto t = make_technique(name, o.settings); !t) return t.error();
-  }
+  if (!(o.budget_ms >= 0.0 && o.budget_ms <= 10000.0))
+    return make_error("--budget-ms must be within 0..10000 ms");
+  if (o.interleave && o.pipelined)
+    return make_error("--interleave and --pipelined cannot be combined: a pipelined run "
+                      "overlaps one technique's frames, an interleaved one alternates them");
   return {};
 }
 
@@ -70,154 +81,260 @@ std::string frame_file(const std::string& dir, const std::string& technique, uin
   return (std::filesystem::path(dir) / (technique + name)).string();
 }
 
+// One technique (or the raw bound, technique == null) in a run.
+struct Entry {
+  std::unique_ptr<Technique> technique;
+  TechniqueRecord record;
+  FrameTiming last;  // for the next frame's budget
+  uint64_t gpu_bytes_before = 0;  // the renderer's resources before the technique loaded
+};
+
+class BenchRun {
+ public:
+  BenchRun(const Scene& scene, const CameraPath& path, const BenchOptions& options,
+           const Store* store, const std::vector<PlannedTechnique>& plan, gpu::Renderer& renderer,
+           Progress& progress)
+      : scene_(scene), path_(path), o_(options), store_(store), plan_(plan), renderer_(renderer),
+        loop_(renderer), progress_(progress),
+        samples_(sample_frames(uint32_t(path.frames.size()), options.sample_images)) {}
+
+  Result<std::vector<TechniqueRecord>> run(const std::vector<std::string>& names) {
+    std::vector<TechniqueRecord> records;
+    if (o_.interleave) {
+      std::vector<Entry> entries;
+      for (const std::string& name : names) {
+        entries.emplace_back();
+        if (auto ok = load(name, entries.back()); !ok) return ok.error();
+      }
+      for (Entry& e : entries) warm_up(e);
+      progress_.start("bench " + std::to_string(names.size()) + " techniques, interleaved",
+                      frames());
+      for (uint32_t f = 0; f < frames(); ++f) {
+        for (Entry& e : entries)
+          if (auto ok = frame(e, f); !ok) return ok.error();
+        progress_.advance();
+      }
+      progress_.finish();
+      for (Entry& e : entries) {
+        finish(e);
+        e.record.peak_rss_mb = status_mb("VmHWM");
+        records.push_back(std::move(e.record));
+      }
+      return records;
+    }
+    for (const std::string& name : names) {
+      reset_peak_memory();
+      const double before = status_mb("VmRSS");
+      Entry e;
+      if (auto ok = load(name, e); !ok) return ok.error();
+      warm_up(e);
+      progress_.start("bench " + name, frames());
+      for (uint32_t f = 0; f < frames(); ++f) {
+        if (auto ok = frame(e, f); !ok) return ok.error();
+        progress_.advance();
+      }
+      progress_.finish();
+      if (o_.pipelined && e.technique)
+        if (auto ok = pipelined(e); !ok) return ok.error();
+      finish(e);
+      e.record.resident_before_mb = before;
+      e.record.peak_rss_mb = std::max(0.0, status_mb("VmHWM") - before);
+      records.push_back(std::move(e.record));
+    }
+    return records;
+  }
+
+ private:
+  uint32_t frames() const { return uint32_t(path_.frames.size()); }
+
+  View view_at(uint64_t f) const {
+    View v;
+    v.pose = path_.frames[f];
+    v.width = o_.width;
+    v.height = o_.height;
+    v.hfov_deg = o_.hfov_deg;
+    return v;
+  }
+
+  bool compared(uint32_t f) const {
+    return (o_.reference_every && f % o_.reference_every == 0) || sample(f);
+  }
+  bool sample(uint32_t f) const { return std::binary_search(samples_.begin(), samples_.end(), f); }
+
+  Result<void> load(const std::string& name, Entry& e) {
+    e.record.name = name;
+    if (name == kRawBound) {
+      e.record.description = "all triangles in one indexed draw, no per-object work";
+      return {};
+    }
+    auto made = make_technique(name, o_.settings);
+    if (!made) return made.error();
+    e.technique = std::move(*made);
+    const auto planned = std::find_if(plan_.begin(), plan_.end(), [&](const PlannedTechnique& p) {
+      return p.descriptor->name == name;
+    });
+    if (planned != plan_.end() && planned->bake) {
+      e.record.from_bake = true;
+      e.record.bake_s = planned->bake->bake_s;
+    }
+    if (store_) {
+      auto bytes = store_->total_bytes(name + "/");
+      if (!bytes) return bytes.error();
+      e.record.store_bytes = *bytes;
+    }
+    e.gpu_bytes_before = renderer_.resource_bytes();
+    const auto start = Clock::now();
+    Progress quiet(true);
+    if (auto ok = e.technique->load({scene_, store_, renderer_, quiet}); !ok) return ok.error();
+    e.record.load_s = seconds_since(start);
+    e.record.description = e.technique->describe();
+    return {};
+  }
+
+  FrameTiming draw(Entry& e, uint64_t f) {
+    if (!e.technique) return loop_.run_raw(view_at(f));
+    return loop_.run(*e.technique, view_at(f), f, next_budget(o_.budget_ms, e.last));
+  }
+
+  void warm_up(Entry& e) {
+    for (uint32_t w = 0; w < std::min(o_.warmup_frames, frames()); ++w) e.last = draw(e, w);
+  }
+
+  // Compares frame f as drawn with brute's (capturing brute's as the reference).
+  Result<void> compare(Entry& e, uint32_t f, FrameRecord& record, bool save) {
+    Image image = renderer_.capture();
+    record.compared = true;
+    const std::string& name = e.record.name;
+    if (name == "brute") {
+      record.psnr_db = compare_images(image, image).psnr_db;
+      if (save)
+        if (auto ok = write_png(image, frame_file(o_.out_dir, name, f, "")); !ok) return ok;
+      reference_[f] = std::move(image);
+      return {};
+    }
+    const Image& ref = reference_.at(f);
+    const ImageComparison c = compare_images(ref, image);
+    record.psnr_db = c.psnr_db;
+    record.differing_pixels = c.differing_pixels;
+    if (!save) return {};
+    if (auto ok = write_png(image, frame_file(o_.out_dir, name, f, "")); !ok) return ok;
+    return write_png(difference_image(ref, image), frame_file(o_.out_dir, name, f, "_diff"));
+  }
+
+  Result<void> frame(Entry& e, uint32_t f) {
+    const FrameTiming t = draw(e, f);
+    e.last = t;
+    FrameRecord r;
+    r.frame_ms = t.frame_ms;
+    r.cpu_ms = t.select_ms;
+    r.gpu_ms = t.gpu_ms;
+    r.triangles = t.triangles;
+    r.draw_calls = t.draw_calls;
+    r.proxy_triangles = t.mesh_triangles;
+    if (compared(f)) {  // outside the timed region
+      if (auto ok = compare(e, f, r, sample(f)); !ok) return ok;
+      if (sample(f) && o_.birdseye_height > 0) {
+        // paper 000, Fig. 5-2: the same frame's selection seen from above.
+        loop_.draw_birdseye(e.technique.get(), view_at(f), o_.birdseye_height);
+        if (auto ok = write_png(renderer_.capture(),
+                                frame_file(o_.out_dir, e.record.name, f, "_birdseye"));
+            !ok)
+          return ok;
+      }
+    }
+    e.record.frames.push_back(r);
+    if (e.technique)
+      if (std::string failure = e.technique->failure(); !failure.empty())
+        return make_error(e.record.name, ": ", failure);
+    return {};
+  }
+
+  // The path again with selection one frame ahead; compared frames checked again (the same
+  // selection must give the same pixels), nothing saved.
+  Result<void> pipelined(Entry& e) {
+    progress_.start("bench " + e.record.name + " pipelined", frames());
+    std::optional<Error> error;
+    loop_.run_pipelined(
+        *e.technique, 0, frames(), [&](uint64_t f) { return view_at(f); },
+        FrameBudget{o_.budget_ms, 0, 0, 0}, [&](uint64_t f, const FrameTiming& t) {
+          FrameRecord& r = e.record.frames[f];
+          r.pipelined_frame_ms = t.frame_ms;
+          r.pipelined_latency_ms = t.latency_ms;
+          if (!error && compared(uint32_t(f)) && e.record.name != "brute") {
+            FrameRecord again;
+            if (auto ok = compare(e, uint32_t(f), again, false); !ok) error = ok.error();
+            else if (again.differing_pixels != r.differing_pixels)
+              error = make_error(e.record.name, ": frame ", std::to_string(f),
+                                 " drawn pipelined differs from the same frame drawn in turn");
+          }
+          progress_.advance();
+        });
+    progress_.finish();
+    if (error) return *error;
+    if (std::string failure = e.technique->failure(); !failure.empty())
+      return make_error(e.record.name, ": ", failure);
+    return {};
+  }
+
+  void finish(Entry& e) {
+    if (!e.technique) return;
+    e.record.figures = e.technique->figures();  // after the run: counts included
+    e.record.fallback_frames = e.technique->fallback_frames();
+    // After the run: textures are sized by their uploads.
+    e.record.gpu_resource_bytes = renderer_.resource_bytes() - e.gpu_bytes_before;
+  }
+
+  const Scene& scene_;
+  const CameraPath& path_;
+  const BenchOptions& o_;
+  const Store* store_;
+  const std::vector<PlannedTechnique>& plan_;
+  gpu::Renderer& renderer_;
+  FrameLoop loop_;
+  Progress& progress_;
+  const std::vector<uint32_t> samples_;
+  std::map<uint32_t, Image> reference_;  // brute's frames that others are compared with
+};
+
 }  // namespace
 
 Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
                               const BenchOptions& options, Progress& progress) {
+  // Everything asked is checked before the first frame or file.
   if (auto ok = check_options(options, path); !ok) return ok.error();
-  std::error_code ec;
-  std::filesystem::create_directories(options.out_dir, ec);
-  if (ec) return make_error(options.out_dir, ": cannot create the output folder: ", ec.message());
-
+  std::vector<std::string> names{"brute"};  // first: the reference of every other technique
+  for (const std::string& n : options.techniques)
+    if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+  std::vector<std::string> techniques;
+  for (const std::string& n : names)
+    if (n != kRawBound) techniques.push_back(n);
   std::optional<Store> store;
   if (!options.store_file.empty()) {
     auto opened = Store::open(options.store_file, Store::Mode::kRead);
     if (!opened) return opened.error();
     store.emplace(std::move(*opened));
   }
+  auto plan = plan_run(techniques, options.settings, store ? &*store : nullptr, scene);
+  if (!plan) return plan.error();
+  if (auto ok = check_writable_folder(options.out_dir); !ok) return ok.error();
+
   auto context = gpu::create_headless_context();
   if (!context) return context.error();
   auto renderer = gpu::Renderer::create(scene);
   if (!renderer) return renderer.error();
   (*renderer)->set_offscreen(options.width, options.height);
 
-  // Brute first: its frames are the reference of every other technique.
-  std::vector<std::string> names{"brute"};
-  for (const std::string& n : options.techniques)
-    if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
-
-  const uint32_t frames = static_cast<uint32_t>(path.frames.size());
-  const std::vector<uint32_t> samples = sample_frames(frames, options.sample_images);
-  auto compared = [&](uint32_t f) {
-    return (options.reference_every && f % options.reference_every == 0) ||
-           std::binary_search(samples.begin(), samples.end(), f);
-  };
-  std::map<uint32_t, Image> reference;  // brute's frames that others are compared with
-
   BenchReport report;
   report.renderer = (*context)->renderer_name();
-  DrawList list;
-  for (const std::string& name : names) {
-    TechniqueRecord record;
-    record.name = name;
-    std::unique_ptr<Technique> technique;
-    if (name != kRawBound) {
-      auto made = make_technique(name, options.settings);
-      if (!made) return made.error();
-      technique = std::move(*made);
-      const auto start = Clock::now();
-      if (auto ok = store ? technique->load_baked(scene, *store) : technique->load(scene); !ok)
-        return ok.error();
-      record.load_s = ms_since(start) / 1000.0;
-      if (store) {
-        auto bytes = store->total_bytes(name + "/");
-        if (!bytes) return bytes.error();
-        record.store_bytes = *bytes;
-        auto bake_s = store->get_meta(name + "/bake_s");
-        if (!bake_s) return bake_s.error();
-        if (*bake_s) record.bake_s = std::strtod((*bake_s)->c_str(), nullptr);
-      }
-      record.description = technique->describe();
-      const ProxyMesh* proxies = technique->proxies();
-      if (auto ok = (*renderer)->set_proxies(proxies ? *proxies : ProxyMesh{}); !ok)
-        return ok.error();
-    } else {
-      record.description = "all triangles in one indexed draw, no per-object work";
-    }
-    auto render = [&](const View& view, FrameRecord& f) {
-      const auto start = Clock::now();
-      gpu::FrameStats stats;
-      if (technique) {
-        technique->select(view, FrameBudget{}, list);
-        f.cpu_ms = ms_since(start);
-        f.proxy_triangles = list.proxy_triangle_count();
-        stats = (*renderer)->draw(view, list);
-      } else {
-        stats = (*renderer)->draw_everything_at_once(view);
-      }
-      glFinish();
-      f.frame_ms = ms_since(start);
-      f.gpu_ms = stats.gpu_ms;
-      f.triangles = stats.triangles;
-      f.draw_calls = stats.draw_calls;
-    };
-    auto view_at = [&](uint32_t f) {
-      View v;
-      v.pose = path.frames[f];
-      v.width = options.width;
-      v.height = options.height;
-      v.hfov_deg = options.hfov_deg;
-      return v;
-    };
-
-    progress.start("bench " + name, frames);
-    FrameRecord ignored;
-    for (uint32_t w = 0; w < std::min(options.warmup_frames, frames); ++w) render(view_at(w), ignored);
-    for (uint32_t f = 0; f < frames; ++f) {
-      FrameRecord record_f;
-      render(view_at(f), record_f);
-      if (compared(f)) {  // outside the timed region
-        Image image = (*renderer)->capture();
-        const bool sample = std::binary_search(samples.begin(), samples.end(), f);
-        if (name == "brute") {
-          record_f.compared = true;
-          record_f.psnr_db = compare_images(image, image).psnr_db;
-          if (sample) {
-            if (auto ok = write_png(image, frame_file(options.out_dir, name, f, "")); !ok)
-              return ok.error();
-          }
-          reference[f] = std::move(image);
-        } else {
-          const Image& ref = reference.at(f);
-          const ImageComparison c = compare_images(ref, image);
-          record_f.compared = true;
-          record_f.psnr_db = c.psnr_db;
-          record_f.differing_pixels = c.differing_pixels;
-          if (sample) {
-            if (auto ok = write_png(image, frame_file(options.out_dir, name, f, "")); !ok)
-              return ok.error();
-            if (auto ok = write_png(difference_image(ref, image),
-                                    frame_file(options.out_dir, name, f, "_diff"));
-                !ok)
-              return ok.error();
-          }
-        }
-        if (sample && options.birdseye_height > 0) {
-          // paper 000, Fig. 5-2: the same frame's selection seen from above.
-          const View eye = view_at(f);
-          if (technique) technique->annotate(eye, list);
-          else list.clear();
-          add_frustum_lines(eye, options.birdseye_height * 0.5f, list);
-          const View above = birdseye_view(eye, options.birdseye_height);
-          if (technique) (*renderer)->draw(above, list);
-          else (*renderer)->draw_everything_at_once(above);
-          if (auto ok = write_png((*renderer)->capture(),
-                                  frame_file(options.out_dir, name, f, "_birdseye"));
-              !ok)
-            return ok.error();
-        }
-      }
-      record.frames.push_back(record_f);
-      progress.advance();
-      if (technique) {
-        if (std::string failure = technique->failure(); !failure.empty())
-          return make_error(name, ": ", failure);
-      }
-    }
-    progress.finish();
-    if (technique) record.figures = technique->figures();  // after the run: counts included
-    record.peak_rss_mb = peak_rss_mb();
-    report.techniques.push_back(std::move(record));
+  report.interleaved = options.interleave;
+  report.pipelined = options.pipelined;
+  report.width = options.width;
+  report.height = options.height;
+  {
+    BenchRun run(scene, path, options, store ? &*store : nullptr, *plan, **renderer, progress);
+    auto records = run.run(names);
+    if (!records) return records.error();
+    report.techniques = std::move(*records);
   }
 
   const std::string json_path = (std::filesystem::path(options.out_dir) / "bench.json").string();

@@ -13,9 +13,6 @@ namespace {
 
 using nlohmann::json;
 
-// Infinite PSNR (identical images) has no JSON number: it is written as null.
-json decibels(double db) { return std::isfinite(db) ? json(db) : json(nullptr); }
-
 const TechniqueRecord* find_brute(const BenchReport& report) {
   for (const auto& t : report.techniques)
     if (t.name == "brute") return &t;
@@ -36,22 +33,30 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options,
   root["hfov_deg"] = options.hfov_deg;
   root["renderer"] = report.renderer;
   root["warmup_frames"] = options.warmup_frames;
+  root["budget_ms"] = options.budget_ms;
+  root["interleaved"] = report.interleaved;
+  root["pipelined"] = report.pipelined;
   root["techniques"] = json::array();
   const TechniqueRecord* brute = find_brute(report);
   for (const TechniqueRecord& t : report.techniques) {
+    const BenchSummary s = summarize(t, brute, options.width, options.height);
     json frames = json::array();
     for (const FrameRecord& f : t.frames) {
       json frame = {{"frame_ms", f.frame_ms},   {"cpu_ms", f.cpu_ms},
                     {"gpu_ms", f.gpu_ms},       {"triangles", f.triangles},
                     {"draw_calls", f.draw_calls}, {"proxy_triangles", f.proxy_triangles}};
       if (f.compared) {
-        frame["psnr_db"] = decibels(f.psnr_db);
+        // An identical frame's PSNR is infinite, which JSON cannot hold: the ceiling instead.
+        frame["psnr_db"] = std::isfinite(f.psnr_db) ? f.psnr_db : s.psnr_ceiling_db;
         frame["identical"] = f.differing_pixels == 0;
         frame["differing_pixels"] = f.differing_pixels;
       }
+      if (report.pipelined) {
+        frame["pipelined_frame_ms"] = f.pipelined_frame_ms;
+        frame["pipelined_latency_ms"] = f.pipelined_latency_ms;
+      }
       frames.push_back(std::move(frame));
     }
-    const BenchSummary s = summarize(t, brute);
     json summary = {{"median_ms", s.median_ms},
                     {"p95_ms", s.p95_ms},
                     {"p99_ms", s.p99_ms},
@@ -59,14 +64,25 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options,
                     {"mean_ms", s.mean_ms},
                     {"mean_triangles", s.mean_triangles},
                     {"mean_draw_calls", s.mean_draw_calls},
-                    {"psnr_db_mean", decibels(s.psnr_db_mean)},
-                    {"psnr_db_min", decibels(s.psnr_db_min)},
+                    {"psnr_db_mean", s.psnr_db_mean},
+                    {"psnr_db_min", s.psnr_db_min},
+                    {"psnr_ceiling_db", s.psnr_ceiling_db},
                     {"compared_frames", s.compared_frames},
                     {"identical_frames", s.identical_frames},
                     {"peak_rss_mb", t.peak_rss_mb},
+                    {"resident_before_mb", t.resident_before_mb},
+                    {"gpu_resource_bytes", t.gpu_resource_bytes},
+                    {"fallback_frames", t.fallback_frames},
+                    {"from_bake", t.from_bake},
                     {"bake_s", t.bake_s},
                     {"load_s", t.load_s},
                     {"store_bytes", t.store_bytes}};
+    if (s.compared_frames > s.identical_frames)
+      summary["psnr_db_mean_differing"] = s.psnr_db_mean_differing;
+    if (report.pipelined && t.name != kRawBound)
+      summary["pipelined"] = {{"median_ms", s.pipelined_median_ms},
+                              {"p99_ms", s.pipelined_p99_ms},
+                              {"latency_median_ms", s.pipelined_latency_median_ms}};
     // Triangles drawn from the technique's proxy mesh (colorcube: cube faces, two triangles
     // each, and the leaves' own triangles).
     uint64_t proxy_triangles = 0;
@@ -92,21 +108,37 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options,
 std::string format_bench_summary(const BenchReport& report) {
   const TechniqueRecord* brute = find_brute(report);
   std::string out;
-  char line[256];
-  std::snprintf(line, sizeof(line), "renderer: %s\n%-13s %9s %9s %9s %8s %12s %8s %10s %12s\n",
-                report.renderer.c_str(), "technique", "median_ms", "p99_ms", "max_ms", "x_brute",
-                "triangles", "draws", "psnr_db", "identical");
+  char line[320];
+  std::snprintf(line, sizeof(line), "renderer: %s%s\n%-13s %9s %9s %9s %8s %12s %8s %10s %12s %9s",
+                report.renderer.c_str(), report.interleaved ? " (techniques interleaved)" : "",
+                "technique", "median_ms", "p99_ms", "max_ms", "x_brute", "triangles", "draws",
+                "psnr_db", "identical", "fallback");
   out += line;
+  if (report.pipelined) {
+    std::snprintf(line, sizeof(line), " %12s %12s", "pipelined_ms", "latency_ms");
+    out += line;
+  }
+  out += "\n";
   for (const TechniqueRecord& t : report.techniques) {
-    const BenchSummary s = summarize(t, brute);
+    const BenchSummary s = summarize(t, brute, report.width, report.height);
     char psnr[32] = "-";
-    if (s.compared_frames > s.identical_frames) std::snprintf(psnr, sizeof(psnr), "%.2f", s.psnr_db_mean);
+    if (s.compared_frames > s.identical_frames)
+      std::snprintf(psnr, sizeof(psnr), "%.2f", s.psnr_db_mean_differing);
     char ratio[32] = "-";
     if (&t != brute && brute) std::snprintf(ratio, sizeof(ratio), "%.3f", s.median_ratio_to_brute);
-    std::snprintf(line, sizeof(line), "%-13s %9.2f %9.2f %9.2f %8s %12.0f %8.1f %10s %7u/%-4u\n",
+    char fallback[32];
+    std::snprintf(fallback, sizeof(fallback), "%llu%s", (unsigned long long)t.fallback_frames,
+                  2 * t.fallback_frames > t.frames.size() ? " (most)" : "");
+    std::snprintf(line, sizeof(line), "%-13s %9.2f %9.2f %9.2f %8s %12.0f %8.1f %10s %7u/%-4u %9s",
                   t.name.c_str(), s.median_ms, s.p99_ms, s.max_ms, ratio, s.mean_triangles,
-                  s.mean_draw_calls, psnr, s.identical_frames, s.compared_frames);
+                  s.mean_draw_calls, psnr, s.identical_frames, s.compared_frames, fallback);
     out += line;
+    if (report.pipelined && s.pipelined_median_ms > 0) {
+      std::snprintf(line, sizeof(line), " %12.2f %12.2f", s.pipelined_median_ms,
+                    s.pipelined_latency_median_ms);
+      out += line;
+    }
+    out += "\n";
   }
   return out;
 }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 namespace farfield {
 
@@ -24,16 +23,23 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute) {
+BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute, int width,
+                       int height) {
   BenchSummary s;
+  // MSE of one channel of one pixel off by one: 1 / (3 w h).
+  s.psnr_ceiling_db = 10.0 * std::log10(255.0 * 255.0 * 3.0 * double(width) * double(height));
   const size_t n = t.frames.size();
   if (n == 0) return s;
-  std::vector<double> ms;
+  std::vector<double> ms, pipelined, latency;
   double psnr_sum = 0;
   uint32_t psnr_count = 0;
-  s.psnr_db_min = std::numeric_limits<double>::infinity();
+  s.psnr_db_min = s.psnr_ceiling_db;
   for (const FrameRecord& f : t.frames) {
     ms.push_back(f.frame_ms);
+    if (f.pipelined_frame_ms > 0) {
+      pipelined.push_back(f.pipelined_frame_ms);
+      latency.push_back(f.pipelined_latency_ms);
+    }
     s.mean_ms += f.frame_ms / double(n);
     s.mean_triangles += double(f.triangles) / double(n);
     s.mean_draw_calls += double(f.draw_calls) / double(n);
@@ -47,14 +53,22 @@ BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute) {
     psnr_count++;
     s.psnr_db_min = std::min(s.psnr_db_min, f.psnr_db);
   }
-  s.psnr_db_mean = psnr_count ? psnr_sum / psnr_count : std::numeric_limits<double>::infinity();
+  s.psnr_db_mean_differing = psnr_count ? psnr_sum / psnr_count : 0.0;
+  s.psnr_db_mean = s.compared_frames
+                       ? (psnr_sum + s.identical_frames * s.psnr_ceiling_db) / s.compared_frames
+                       : 0.0;
+  if (s.compared_frames == 0) s.psnr_db_min = 0.0;
+  std::sort(pipelined.begin(), pipelined.end());
+  s.pipelined_median_ms = median(pipelined);
+  s.pipelined_p99_ms = percentile(pipelined, 99);
+  s.pipelined_latency_median_ms = median(latency);
   std::sort(ms.begin(), ms.end());
   s.median_ms = median(ms);
   s.p95_ms = percentile(ms, 95);
   s.p99_ms = percentile(ms, 99);
   s.max_ms = ms.back();
   if (brute && brute != &t && brute->frames.size() == n) {
-    BenchSummary b = summarize(*brute, nullptr);
+    BenchSummary b = summarize(*brute, nullptr, width, height);
     s.median_ratio_to_brute = b.median_ms > 0 ? s.median_ms / b.median_ms : 0;
     s.triangle_ratio_to_brute = b.mean_triangles > 0 ? s.mean_triangles / b.mean_triangles : 0;
     uint32_t slower = 0;

@@ -9,13 +9,19 @@ struct BenchSummary {
   double median_ms = 0, p95_ms = 0, p99_ms = 0, max_ms = 0, mean_ms = 0;
   double mean_triangles = 0, mean_draw_calls = 0;
   uint32_t compared_frames = 0, identical_frames = 0;
-  double psnr_db_mean = 0, psnr_db_min = 0;  // over compared frames that differ
+  // PSNR over the compared frames, an identical frame counted at `psnr_ceiling_db`: the PSNR
+  // of one channel of one pixel off by one, above that of any frame that differs.
+  double psnr_db_mean = 0, psnr_db_min = 0;
+  double psnr_db_mean_differing = 0;  // over the frames that differ; 0 when none does
+  double psnr_ceiling_db = 0;
+  double pipelined_median_ms = 0, pipelined_p99_ms = 0, pipelined_latency_median_ms = 0;
   // Against brute, frame by frame (0 for brute itself).
   double median_ratio_to_brute = 0;       // median(this) / median(brute)
   double triangle_ratio_to_brute = 0;     // mean triangles / brute's
   double frames_slower_than_brute_1_1x = 0;  // fraction with frame_ms > 1.1 x brute's
 };
 
-BenchSummary summarize(const TechniqueRecord& technique, const TechniqueRecord* brute);
+BenchSummary summarize(const TechniqueRecord& technique, const TechniqueRecord* brute,
+                       int width, int height);
 
 }  // namespace farfield

@@ -15,14 +15,16 @@
 
 #include "farfield/core/assert.hpp"
 #include "farfield/gpu/lighting.hpp"
+#include "gpu_resources.hpp"
 #include "shaders.hpp"
 
 namespace farfield::gpu {
 
 namespace {
 
-// Above this many proxy ranges a frame gathers them into one draw (State::draw_proxy_stream).
-constexpr size_t kProxyRangesPerCall = 64;
+// Above this many consecutive ranges of one mesh a frame gathers them into one draw
+// (State::plan_meshes): per-command cost dominates otherwise (thousands of cube-face batches).
+constexpr size_t kMeshRangesPerCall = 64;
 
 // DrawElementsIndirectCommand as the GL reads it from the indirect buffer.
 struct DrawCommand {
@@ -39,45 +41,30 @@ struct QuadVertex {
   glm::vec2 texcoord;
 };
 
-// Immutable storage; an error message when the GL cannot allocate it.
-Result<void> make_buffer(GLuint& buffer, const char* what, size_t bytes, const void* data,
-                         GLbitfield flags) {
-  glCreateBuffers(1, &buffer);
-  while (glGetError() != GL_NO_ERROR) {
-  }
-  // Zero-sized storage is invalid in GL; an empty scene gets a placeholder.
-  glNamedBufferStorage(buffer, GLsizeiptr(std::max<size_t>(bytes, 4)), bytes ? data : nullptr,
-                       flags);
-  if (const GLenum error = glGetError(); error != GL_NO_ERROR)
-    return make_error("cannot allocate ", std::to_string(bytes), " bytes of GPU memory for the ",
-                      what, error == GL_OUT_OF_MEMORY ? " (out of memory)" : "");
-  return {};
-}
-
 }  // namespace
 
 struct Renderer::State {
   GLuint vertex_buffer = 0, index_buffer = 0, material_buffer = 0, indirect_buffer = 0;
   GLuint vao = 0, program = 0;
-  // Proxy geometry (DrawList::proxies): its own buffers, VAO and unlit program.
-  GLuint proxy_vertex_buffer = 0, proxy_index_buffer = 0, proxy_vao = 0, proxy_program = 0;
-  uint32_t proxy_index_count = 0;
-  // Many small proxy ranges (thousands of cube-face batches) are gathered on the CPU into
-  // one stream and drawn with a single call: per-command cost dominates otherwise.
-  std::vector<uint32_t> proxy_indices;  // CPU copy of the proxy index buffer
-  std::vector<uint32_t> proxy_stream;   // this frame's gathered indices
-  GLuint proxy_stream_buffer = 0;
-  size_t proxy_stream_capacity = 0;  // in indices
-  // Far-field quads (DrawList::far_quads) and annotation lines: streamed every frame.
+  GpuResources resources;
+  GLuint proxy_program = 0, textured_program = 0;
+  // A run of consecutive MeshDraws of one mesh and texture, drawn by one call: commands in
+  // the indirect buffer, or (more than kMeshRangesPerCall) indices gathered into the stream.
+  struct MeshRun {
+    size_t begin, end;       // into DrawList::meshes
+    size_t first_command;    // gathered == false
+    size_t stream_offset;    // gathered == true, in indices
+    bool gathered;
+  };
+  std::vector<MeshRun> runs;
+  std::vector<uint32_t> stream;  // this frame's gathered indices
+  GLuint stream_buffer = 0;
+  size_t stream_capacity = 0;  // in indices
+  // Backdrop quads and annotation lines: streamed every frame.
   GLuint quad_program = 0, quad_vao = 0, quad_buffer = 0, line_vao = 0, line_buffer = 0;
   size_t quad_capacity = 0, line_capacity = 0;  // in vertices
   std::vector<QuadVertex> quad_vertices;
   std::vector<ProxyVertex> line_vertices;
-  struct Slot {
-    GLuint texture = 0;
-    int width = 0, height = 0;
-  };
-  std::array<Slot, kTextureSlots> slots{};
   GLuint timer[2] = {0, 0};  // GL_TIMESTAMP queries at the frame's start and end
   GLuint framebuffer = 0, color_target = 0, depth_target = 0;  // offscreen, 0 = default
   int offscreen_width = 0, offscreen_height = 0;
@@ -90,17 +77,14 @@ struct Renderer::State {
   float clear_alpha = 1.0f;
 
   ~State() {
-    const GLuint buffers[] = {vertex_buffer,   index_buffer,        material_buffer,
-                              indirect_buffer, proxy_vertex_buffer, proxy_index_buffer,
-                              proxy_stream_buffer};
+    const GLuint buffers[] = {vertex_buffer, index_buffer, material_buffer, indirect_buffer,
+                              stream_buffer, quad_buffer,  line_buffer};
     glDeleteBuffers(7, buffers);
-    const GLuint stream_buffers[] = {quad_buffer, line_buffer};
-    glDeleteBuffers(2, stream_buffers);
-    const GLuint vaos[] = {vao, proxy_vao, quad_vao, line_vao};
-    glDeleteVertexArrays(4, vaos);
-    for (const Slot& slot : slots) glDeleteTextures(1, &slot.texture);
+    const GLuint vaos[] = {vao, quad_vao, line_vao};
+    glDeleteVertexArrays(3, vaos);
     glDeleteProgram(program);
     glDeleteProgram(proxy_program);
+    glDeleteProgram(textured_program);
     glDeleteProgram(quad_program);
     glDeleteQueries(2, timer);
     glDeleteFramebuffers(1, &framebuffer);
@@ -119,25 +103,91 @@ struct Renderer::State {
     FF_ASSERT(made.ok(), "%s", made.error().message.c_str());
   }
 
-  // Gathers the ranges' indices into the stream buffer and draws them in one call.
-  void draw_proxy_stream(const std::vector<DrawRange>& ranges) {
-    proxy_stream.clear();
-    for (const DrawRange& r : ranges)
-      proxy_stream.insert(proxy_stream.end(), proxy_indices.begin() + r.first_index,
-                          proxy_indices.begin() + r.first_index + r.index_count);
-    if (proxy_stream.size() > proxy_stream_capacity) {
-      proxy_stream_capacity = std::bit_ceil(proxy_stream.size());
-      glDeleteBuffers(1, &proxy_stream_buffer);
-      const Result<void> made = make_buffer(proxy_stream_buffer, "proxy index stream",
-                                            proxy_stream_capacity * sizeof(uint32_t), nullptr,
-                                            GL_DYNAMIC_STORAGE_BIT);
+  // Splits the list's mesh draws into runs and writes their commands (after the scene's) and
+  // gathered indices; uploads the stream.
+  void plan_meshes(const DrawList& list) {
+    runs.clear();
+    stream.clear();
+    for (size_t b = 0; b < list.meshes.size();) {
+      const MeshDraw& first = list.meshes[b];
+      const GpuMesh& mesh = resources.mesh(first.mesh);
+      FF_ASSERT(mesh.textured == bool(first.texture),
+                "mesh %u is %s but its draw names texture %u", first.mesh.id,
+                mesh.textured ? "textured" : "a proxy mesh", first.texture.id);
+      if (first.texture) resources.texture(first.texture);  // asserts that it is live
+      size_t e = b;
+      while (e < list.meshes.size() && list.meshes[e].mesh == first.mesh &&
+             list.meshes[e].texture == first.texture) {
+        const MeshDraw& d = list.meshes[e];
+        FF_ASSERT(d.first_index % 3 == 0 && d.index_count % 3 == 0 &&
+                      uint64_t(d.first_index) + d.index_count <= mesh.index_count,
+                  "mesh range [%u, +%u) outside mesh %u's %u indices", d.first_index,
+                  d.index_count, d.mesh.id, mesh.index_count);
+        ++e;
+      }
+      MeshRun run{b, e, commands.size(), stream.size(), e - b > kMeshRangesPerCall};
+      for (size_t i = b; i < e; ++i) {
+        const MeshDraw& d = list.meshes[i];
+        if (run.gathered)
+          stream.insert(stream.end(), mesh.indices.begin() + d.first_index,
+                        mesh.indices.begin() + d.first_index + d.index_count);
+        else
+          commands.push_back({d.index_count, 1, d.first_index, 0, 0});
+      }
+      runs.push_back(run);
+      b = e;
+    }
+    if (stream.empty()) return;
+    if (stream.size() > stream_capacity) {
+      stream_capacity = std::bit_ceil(stream.size());
+      glDeleteBuffers(1, &stream_buffer);
+      const Result<void> made =
+          make_buffer(stream_buffer, "mesh index stream", stream_capacity * sizeof(uint32_t),
+                      nullptr, GL_DYNAMIC_STORAGE_BIT);
       FF_ASSERT(made.ok(), "%s", made.error().message.c_str());
     }
-    glNamedBufferSubData(proxy_stream_buffer, 0, GLsizeiptr(proxy_stream.size() * sizeof(uint32_t)),
-                         proxy_stream.data());
-    glVertexArrayElementBuffer(proxy_vao, proxy_stream_buffer);
-    glDrawElements(GL_TRIANGLES, GLsizei(proxy_stream.size()), GL_UNSIGNED_INT, nullptr);
-    glVertexArrayElementBuffer(proxy_vao, proxy_index_buffer);
+    glNamedBufferSubData(stream_buffer, 0, GLsizeiptr(stream.size() * sizeof(uint32_t)),
+                         stream.data());
+  }
+
+  // The planned runs, depth-tested and writing depth like opaque geometry; alpha below one
+  // blends. Returns the draw commands issued.
+  uint64_t draw_meshes(const glm::mat4& view_projection, const DrawList& list) {
+    if (runs.empty()) return 0;
+    if (proxy_program == 0) proxy_program = build_proxy_program();
+    if (textured_program == 0) textured_program = build_textured_program();
+    for (GLuint p : {proxy_program, textured_program})
+      glProgramUniformMatrix4fv(p, kViewProjectionUniform, 1, GL_FALSE,
+                                glm::value_ptr(view_projection));
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    uint64_t calls = 0;
+    for (const MeshRun& run : runs) {
+      const MeshDraw& first = list.meshes[run.begin];
+      const GpuMesh& mesh = resources.mesh(first.mesh);
+      glUseProgram(first.texture ? textured_program : proxy_program);
+      if (first.texture) glBindTextureUnit(0, resources.texture(first.texture).texture);
+      glBindVertexArray(mesh.vao);
+      if (run.gathered) {
+        size_t count = 0;
+        for (size_t i = run.begin; i < run.end; ++i) count += list.meshes[i].index_count;
+        glVertexArrayElementBuffer(mesh.vao, stream_buffer);
+        glDrawElements(GL_TRIANGLES, GLsizei(count), GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(run.stream_offset * sizeof(uint32_t)));
+        glVertexArrayElementBuffer(mesh.vao, mesh.index_buffer);
+        ++calls;
+      } else {
+        glMultiDrawElementsIndirect(
+            GL_TRIANGLES, GL_UNSIGNED_INT,
+            reinterpret_cast<const void*>(run.first_command * sizeof(DrawCommand)),
+            GLsizei(run.end - run.begin), 0);
+        calls += run.end - run.begin;
+      }
+    }
+    glBindVertexArray(vao);
+    glUseProgram(program);
+    glDisable(GL_BLEND);
+    return calls;
   }
 
   // Binds the target, sets every piece of state the frame depends on (another user of the
@@ -188,36 +238,12 @@ struct Renderer::State {
     glVertexArrayVertexBuffer(vao_, 0, buffer, 0, GLsizei(stride));
   }
 
-  void upload(const TextureUpload& u) {
-    FF_ASSERT(u.slot < kTextureSlots && u.width > 0 && u.height > 0 &&
-                  (u.channels == 3 || u.channels == 4) && u.pixels != nullptr,
-              "bad texture upload: slot %u, %dx%d, %d channels", u.slot, u.width, u.height,
-              u.channels);
-    Slot& slot = slots[u.slot];
-    if (slot.width != u.width || slot.height != u.height) {
-      glDeleteTextures(1, &slot.texture);
-      glCreateTextures(GL_TEXTURE_2D, 1, &slot.texture);
-      glTextureStorage2D(slot.texture, 1, GL_RGBA8, u.width, u.height);
-      glTextureParameteri(slot.texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-      glTextureParameteri(slot.texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      glTextureParameteri(slot.texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-      glTextureParameteri(slot.texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-      slot.width = u.width;
-      slot.height = u.height;
-    }
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-    // Row 0 of the pixels (the image's top) lands at t = 0; quads map it accordingly.
-    glTextureSubImage2D(slot.texture, 0, 0, 0, u.width, u.height,
-                        u.channels == 4 ? GL_RGBA : GL_RGB, GL_UNSIGNED_BYTE, u.pixels);
-  }
-
-  // The far-field quads, after the opaque geometry: a blended backdrop that fills only the
+  // The backdrop quads, after the opaque geometry: a blended backdrop that fills only the
   // pixels no geometry covers (every fragment at the far depth 0, tested GEQUAL, not written:
   // early depth rejection skips the texturing of covered pixels), or (in_world) depth-tested,
   // depth-writing and two-sided at their place.
-  void draw_quads(const glm::mat4& view_projection, const DrawList& list) {
-    if (list.far_quads.empty()) return;
+  void draw_backdrop(const glm::mat4& view_projection, const DrawList& list) {
+    if (list.backdrop.empty()) return;
     if (quad_program == 0) {
       quad_program = build_quad_program();
       glCreateVertexArrays(1, &quad_vao);
@@ -232,13 +258,13 @@ struct Renderer::State {
     }
     static constexpr glm::vec2 kCornerTexcoords[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     quad_vertices.clear();
-    for (const TexturedQuad& q : list.far_quads) {
-      FF_ASSERT(q.slot < kTextureSlots && slots[q.slot].texture != 0,
-                "quad shows texture slot %u, which holds no image", q.slot);
+    for (const TexturedQuad& q : list.backdrop) {
+      FF_ASSERT(resources.texture(q.texture).texture != 0,
+                "backdrop quad shows texture %u, which holds no image", q.texture.id);
       for (int c = 0; c < 4; ++c) quad_vertices.push_back({q.corners[c], kCornerTexcoords[c]});
     }
     reserve_stream(quad_buffer, quad_capacity, quad_vao, quad_vertices.size(), sizeof(QuadVertex),
-                   "far-field quads");
+                   "backdrop quads");
     glNamedBufferSubData(quad_buffer, 0, GLsizeiptr(quad_vertices.size() * sizeof(QuadVertex)),
                          quad_vertices.data());
     glUseProgram(quad_program);
@@ -248,14 +274,14 @@ struct Renderer::State {
     glDisable(GL_CULL_FACE);
     glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    if (!list.quads_in_world) {
+    if (list.backdrop_mode == BackdropMode::far) {
       glDepthRangef(0.0f, 0.0f);  // reversed-Z: 0 is infinitely far, where the sky was cleared
       glDepthFunc(GL_GEQUAL);
       glDepthMask(GL_FALSE);
     }
-    for (size_t i = 0; i < list.far_quads.size(); ++i) {
-      glBindTextureUnit(0, slots[list.far_quads[i].slot].texture);
-      glProgramUniform1f(quad_program, kOpacityUniform, list.far_quads[i].opacity);
+    for (size_t i = 0; i < list.backdrop.size(); ++i) {
+      glBindTextureUnit(0, resources.texture(list.backdrop[i].texture).texture);
+      glProgramUniform1f(quad_program, kOpacityUniform, list.backdrop[i].opacity);
       glDrawArrays(GL_TRIANGLE_FAN, GLint(4 * i), 4);
     }
     glDepthRangef(0.0f, 1.0f);
@@ -383,7 +409,7 @@ FrameStats Renderer::draw(const View& view, const DrawList& list) {
 FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int height,
                                const DrawList& list) {
   State& s = *state_;
-  for (const TextureUpload& u : list.uploads) s.upload(u);
+  for (const TextureUpload& u : list.uploads) s.resources.upload(u);
   s.commands.clear();
   auto add = [&](const DrawRange& r) {
     FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
@@ -395,14 +421,8 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
   };
   for (const DrawRange& r : list.opaque) add(r);
   for (const DrawRange& r : list.transparent) add(r);
-  const size_t opaque = list.opaque.size(), total = s.commands.size();
-  for (const DrawRange& r : list.proxies) {
-    FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
-                  uint64_t(r.first_index) + r.index_count <= s.proxy_index_count,
-              "proxy range [%u, +%u) outside the %u proxy indices", r.first_index, r.index_count,
-              s.proxy_index_count);
-    s.commands.push_back({r.index_count, 1, r.first_index, 0, 0});
-  }
+  const size_t opaque = list.opaque.size(), scene_commands = s.commands.size();
+  s.plan_meshes(list);  // its commands follow the scene's
   s.reserve_commands(s.commands.size());
   if (!s.commands.empty())
     glNamedBufferSubData(s.indirect_buffer, 0, GLsizeiptr(s.commands.size() * sizeof(DrawCommand)),
@@ -412,29 +432,11 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, s.indirect_buffer);
   if (opaque > 0)
     glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(opaque), 0);
-  if (!list.proxies.empty()) {
-    // Proxies depth-test and write like opaque geometry; alpha below one blends (coverage
-    // drawn as transparency). Their commands follow the scene's in the indirect buffer.
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    glUseProgram(s.proxy_program);
-    glProgramUniformMatrix4fv(s.proxy_program, kViewProjectionUniform, 1, GL_FALSE,
-                              glm::value_ptr(view_projection));
-    glBindVertexArray(s.proxy_vao);
-    if (list.proxies.size() <= kProxyRangesPerCall) {
-      glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                                  reinterpret_cast<const void*>(total * sizeof(DrawCommand)),
-                                  GLsizei(list.proxies.size()), 0);
-    } else {
-      s.draw_proxy_stream(list.proxies);
-    }
-    glBindVertexArray(s.vao);
-    glUseProgram(s.program);
-    glDisable(GL_BLEND);
-  }
-  // Far-field quads behind everything opaque, under the transparent surfaces.
-  s.draw_quads(view_projection, list);
-  if (total > opaque) {
+  uint64_t calls = scene_commands + s.draw_meshes(view_projection, list);
+  // The backdrop behind everything opaque, under the transparent surfaces.
+  s.draw_backdrop(view_projection, list);
+  calls += list.backdrop.size();
+  if (scene_commands > opaque) {
     // Semi-transparent surfaces after the opaque ones, in the list's order, both sides,
     // tested against but not writing depth.
     glEnable(GL_BLEND);
@@ -443,48 +445,31 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
     glDisable(GL_CULL_FACE);
     glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
                                 reinterpret_cast<const void*>(opaque * sizeof(DrawCommand)),
-                                GLsizei(total - opaque), 0);
+                                GLsizei(scene_commands - opaque), 0);
     glDepthMask(GL_TRUE);
     glEnable(GL_CULL_FACE);
     glDisable(GL_BLEND);
   }
   s.draw_lines(view_projection, list);
-  return s.end_frame({0.0, list.triangle_count(), list.draw_count()});
+  return s.end_frame({0.0, list.triangle_count(), calls});
 }
 
-Result<void> Renderer::set_proxies(const ProxyMesh& mesh) {
-  State& s = *state_;
-  const GLuint buffers[] = {s.proxy_vertex_buffer, s.proxy_index_buffer};
-  glDeleteBuffers(2, buffers);
-  glDeleteVertexArrays(1, &s.proxy_vao);
-  s.proxy_vertex_buffer = s.proxy_index_buffer = s.proxy_vao = 0;
-  s.proxy_index_count = 0;
-  s.proxy_indices.clear();
-  if (mesh.indices.empty()) return {};
-  if (auto made = make_buffer(s.proxy_vertex_buffer, "proxy vertex buffer",
-                              mesh.vertices.size() * sizeof(ProxyVertex), mesh.vertices.data(), 0);
-      !made)
-    return made.error();
-  if (auto made = make_buffer(s.proxy_index_buffer, "proxy index buffer",
-                              mesh.indices.size() * sizeof(uint32_t), mesh.indices.data(), 0);
-      !made)
-    return made.error();
-  glCreateVertexArrays(1, &s.proxy_vao);
-  glVertexArrayVertexBuffer(s.proxy_vao, 0, s.proxy_vertex_buffer, 0, sizeof(ProxyVertex));
-  glVertexArrayElementBuffer(s.proxy_vao, s.proxy_index_buffer);
-  glEnableVertexArrayAttrib(s.proxy_vao, kPositionAttrib);
-  glVertexArrayAttribFormat(s.proxy_vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE,
-                            offsetof(ProxyVertex, position));
-  glVertexArrayAttribBinding(s.proxy_vao, kPositionAttrib, 0);
-  glEnableVertexArrayAttrib(s.proxy_vao, kColorAttrib);
-  glVertexArrayAttribFormat(s.proxy_vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE,
-                            offsetof(ProxyVertex, color));
-  glVertexArrayAttribBinding(s.proxy_vao, kColorAttrib, 0);
-  if (s.proxy_program == 0) s.proxy_program = build_proxy_program();
-  s.proxy_index_count = uint32_t(mesh.indices.size());
-  s.proxy_indices = mesh.indices;
-  return {};
+Result<MeshHandle> Renderer::create_mesh(std::span<const ProxyVertex> vertices,
+                                         std::span<const uint32_t> indices) {
+  return state_->resources.add_mesh(vertices.data(), vertices.size(), false, indices);
 }
+
+Result<MeshHandle> Renderer::create_textured_mesh(std::span<const TexturedVertex> vertices,
+                                                  std::span<const uint32_t> indices) {
+  return state_->resources.add_mesh(vertices.data(), vertices.size(), true, indices);
+}
+
+TextureHandle Renderer::create_texture() { return state_->resources.add_texture(); }
+void Renderer::free(MeshHandle mesh) { state_->resources.free(mesh); }
+void Renderer::free(TextureHandle texture) { state_->resources.free(texture); }
+uint64_t Renderer::resource_bytes() const { return state_->resources.bytes(); }
+
+void Renderer::finish() { glFinish(); }
 
 FrameStats Renderer::draw_everything_at_once(const View& view) {
   State& s = *state_;

@@ -83,6 +83,35 @@ void main() {
 }
 )";
 
+// Textured technique meshes (cluster boxes, billboards): vertex colour x texture, unlit like
+// proxies; a texel of alpha 0 (the background an impostor was rendered on) is discarded so
+// that it writes no depth.
+constexpr const char* kTexturedVertexShader = R"(#version 450 core
+layout(location = 0) in vec3 position;
+layout(location = 2) in vec4 color;
+layout(location = 4) in vec2 texcoord;
+layout(location = 0) uniform mat4 view_projection;
+out vec4 v_color;
+out vec2 v_texcoord;
+void main() {
+  gl_Position = view_projection * vec4(position, 1.0);
+  v_color = color;
+  v_texcoord = texcoord;
+}
+)";
+
+constexpr const char* kTexturedFragmentShader = R"(#version 450 core
+layout(binding = 0) uniform sampler2D image;
+in vec4 v_color;
+in vec2 v_texcoord;
+layout(location = 0) out vec4 frag_color;
+void main() {
+  vec4 c = v_color * texture(image, v_texcoord);
+  if (c.a < 0.5 / 255.0) discard;
+  frag_color = c;
+}
+)";
+
 GLuint compile(GLenum stage, const char* source) {
   const GLuint shader = glCreateShader(stage);
   glShaderSource(shader, 1, &source, nullptr);
@@ -126,6 +155,10 @@ GLuint link(const char* name, const char* vertex, const char* fragment) {
 GLuint build_scene_program() { return link("scene", kVertexShader, kFragmentShader); }
 
 GLuint build_quad_program() { return link("quad", kQuadVertexShader, kQuadFragmentShader); }
+
+GLuint build_textured_program() {
+  return link("textured mesh", kTexturedVertexShader, kTexturedFragmentShader);
+}
 
 GLuint build_proxy_program() {
   return link("proxy", kProxyVertexShader, kProxyFragmentShader);

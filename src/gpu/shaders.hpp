@@ -31,5 +31,7 @@ GLuint build_proxy_program();
 // Textured quads: position (location 0), texture coordinate (location 4), the texture on unit
 // 0, kOpacityUniform multiplying its alpha.
 GLuint build_quad_program();
+// Textured meshes: position (0), colour (2), texture coordinate (4), the texture on unit 0.
+GLuint build_textured_program();
 
 }  // namespace farfield::gpu

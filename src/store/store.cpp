@@ -6,7 +6,7 @@
 #include <xxhash.h>
 
 #include "farfield/core/assert.hpp"
-#include "farfield/store/codec.hpp"
+#include "farfield/core/codec.hpp"
 #include "store_state.hpp"
 
 namespace farfield {

@@ -29,4 +29,10 @@ struct Bounds3 {
   }
 };
 
+// Whether two closed boxes meet (share at least a point); never for an empty box.
+inline bool meet(const Bounds3& a, const Bounds3& b) {
+  return a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y && b.min.y <= a.max.y &&
+         a.min.z <= b.max.z && b.min.z <= a.max.z;
+}
+
 }  // namespace farfield

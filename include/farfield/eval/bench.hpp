@@ -12,7 +12,7 @@
 #include "farfield/core/progress.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/scene/scene.hpp"
-#include "farfield/techniques/technique.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 
 namespace farfield {
 
@@ -33,29 +33,46 @@ struct BenchOptions {
   uint32_t sample_images = 3;    // frames saved as PNG per technique, spread over the path
   bool plot = true;              // frame_times.png through python3-matplotlib
   float birdseye_height = 0;     // > 0: also a bird's-eye picture of each sample frame
+  double budget_ms = 0;          // the engine's frame-time budget for every technique; 0: none
+  // Time the techniques frame by frame (frame f of each, then f + 1), so that drift on a
+  // shared machine falls on all alike; all are loaded at once and peak_rss_mb is the process's.
+  bool interleave = false;
+  // After each technique's run, the path again with selection one frame ahead on a second
+  // thread (FrameLoop::run_pipelined); its figures beside the first run's.
+  bool pipelined = false;
 };
 
 struct FrameRecord {
   double frame_ms = 0, cpu_ms = 0, gpu_ms = 0;
   uint64_t triangles = 0, draw_calls = 0;
-  uint64_t proxy_triangles = 0;  // of the triangles, stand-ins (two per colour-cube face)
+  uint64_t proxy_triangles = 0;  // of the triangles, technique meshes (two per cube face)
   bool compared = false;  // a brute reference exists for this frame
   double psnr_db = 0;     // infinite when identical
   uint64_t differing_pixels = 0;
+  double pipelined_frame_ms = 0, pipelined_latency_ms = 0;  // BenchOptions::pipelined
 };
 
 struct TechniqueRecord {
   std::string name, description;
   std::vector<std::pair<std::string, double>> figures;  // Technique::figures()
   double load_s = 0;
-  double bake_s = 0;         // the last `farfield bake` run into the pack (its meta NAME/bake_s)
+  bool from_bake = false;    // loaded from the pack's bake
+  double bake_s = 0;         // the bake that made it (the pack's bake record)
   uint64_t store_bytes = 0;  // the technique's blobs in the pack (NAME/...)
+  // Sequential runs: the peak resident memory while the technique loaded and ran, less what
+  // was resident before it loaded (scene, renderer, the reference frames); interleaved
+  // runs: the process's peak.
   double peak_rss_mb = 0;
+  double resident_before_mb = 0;
+  uint64_t gpu_resource_bytes = 0;  // its meshes and textures in the renderer
+  uint64_t fallback_frames = 0;     // Technique::fallback_frames over the path
   std::vector<FrameRecord> frames;
 };
 
 struct BenchReport {
   std::string renderer;  // GL_RENDERER
+  bool interleaved = false, pipelined = false;
+  int width = 0, height = 0;
   std::vector<TechniqueRecord> techniques;
 };
 

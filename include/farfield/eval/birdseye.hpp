@@ -4,7 +4,7 @@
 #pragma once
 
 #include "farfield/core/view.hpp"
-#include "farfield/techniques/draw_list.hpp"
+#include "farfield/gpu/draw_list.hpp"
 
 namespace farfield {
 

@@ -1,6 +1,7 @@
 // Draws a Scene's DrawLists with OpenGL 4.5 core. The whole scene lives in two GPU buffers
 // (vertices, indices); a DrawList becomes multi-draw-indirect commands, opaque ranges first,
-// then transparent ranges blended without depth writes. Shading: paper 000, Sec. 5.3, two
+// then transparent ranges blended without depth writes. Technique meshes and textures are
+// made through the Device interface and named by handle in the lists. Shading: paper 000, Sec. 5.3, two
 // directional lights opposite each other 14 degrees above the horizon, plus ambient; colour =
 // vertex colour x material base colour. Depth: reversed-Z float buffer (View's projection).
 //
@@ -17,7 +18,8 @@
 #include "farfield/core/result.hpp"
 #include "farfield/core/view.hpp"
 #include "farfield/scene/scene.hpp"
-#include "farfield/techniques/draw_list.hpp"
+#include "farfield/gpu/device.hpp"
+#include "farfield/gpu/draw_list.hpp"
 
 namespace farfield::gpu {
 
@@ -25,14 +27,24 @@ struct FrameStats {
   double gpu_ms = 0.0;        // GL timestamps around the frame's draws (0 if unavailable);
                               // on llvmpipe they see only part of the work: quote frame_ms
   uint64_t triangles = 0;     // submitted
-  uint64_t draw_calls = 0;    // draw commands submitted
+  uint64_t draw_calls = 0;    // draw commands submitted (a gathered batch of many mesh
+                              // ranges counts once)
 };
 
-class Renderer {
+class Renderer final : public Device {
  public:
   // Uploads the scene; fails (with the byte count) when the GPU cannot hold it.
   static Result<std::unique_ptr<Renderer>> create(const Scene& scene);
-  ~Renderer();
+  ~Renderer() override;
+
+  Result<MeshHandle> create_mesh(std::span<const ProxyVertex> vertices,
+                                 std::span<const uint32_t> indices) override;
+  Result<MeshHandle> create_textured_mesh(std::span<const TexturedVertex> vertices,
+                                          std::span<const uint32_t> indices) override;
+  TextureHandle create_texture() override;
+  void free(MeshHandle mesh) override;
+  void free(TextureHandle texture) override;
+  uint64_t resource_bytes() const override;
 
   // Renders into the current framebuffer (0 = window) or an offscreen target sized
   // view.width x view.height (see set_offscreen). Clears to the sky colour first.
@@ -40,9 +52,8 @@ class Renderer {
   // The same with any projection (bakes render through box faces, 90 x 90 degrees, and up).
   FrameStats draw_with(const glm::mat4& view_projection, int width, int height,
                        const DrawList& list);
-  // Uploads the stand-in geometry that DrawList::proxies refer to (replacing any before);
-  // an empty mesh frees it. Fails when the GPU cannot hold it.
-  Result<void> set_proxies(const ProxyMesh& mesh);
+  // Waits until everything drawn so far is finished (the benchmark protocol's glFinish).
+  void finish();
 
   // The raw bound of the benchmark: every triangle of the scene in one indexed draw with
   // the same shading and no per-object work (opaque material, no blending pass).

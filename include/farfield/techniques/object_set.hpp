@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "farfield/scene/scene.hpp"
-#include "farfield/techniques/draw_list.hpp"
+#include "farfield/gpu/draw_list.hpp"
 
 namespace farfield {
 

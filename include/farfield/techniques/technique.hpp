@@ -1,50 +1,107 @@
-// The one interface every rendering technique implements (DESIGN.md). A technique prepares
-// itself once for a scene (load, or load_baked from what bake wrote into a .ffpack store),
-// then selects what to draw for each view (select): pure CPU, no GL, no allocation in steady
-// state, so it can be tested without a GPU and timed apart from drawing.
+// The one interface every rendering technique implements (DESIGN.md, docs/architecture.md).
+// A technique is made from its descriptor and settings (technique_descriptor.hpp), may bake
+// once into a .ffpack store, loads once with a context (scene, store, a device for its render
+// resources), then selects what to draw for each frame: pure CPU, no GL, no allocation in
+// steady state, appending to a list that other techniques may share, so that selection can
+// be tested without a GPU, timed apart from drawing, and run one frame ahead of the renderer.
 #pragma once
 
-#include <map>
+#include <cstdint>
 #include <memory>
-#include <span>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
+#include "farfield/core/bounds.hpp"
 #include "farfield/core/progress.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/core/view.hpp"
+#include "farfield/gpu/device.hpp"
+#include "farfield/gpu/draw_list.hpp"
 #include "farfield/scene/scene.hpp"
-#include "farfield/techniques/draw_list.hpp"
 
 namespace farfield {
 
 class Store;
+namespace gpu {
+class Renderer;
+}
 
+// The part of the scene a frame asks a technique for.
+struct Region {
+  enum class Kind : uint8_t {
+    all,        // the whole scene
+    near,       // the objects that meet `box` (touching counts, as paper 000's near objects)
+    far_field,  // only the technique's far field, beyond a box of its choosing, which
+                // Technique::far_field_box() names after select()
+  };
+  Kind kind = Kind::all;
+  Bounds3 box;  // near
+
+  static Region everything() { return {}; }
+  static Region near_box(const Bounds3& b) { return {Kind::near, b}; }
+  static Region far_field() { return {Kind::far_field, {}}; }
+};
+
+// The engine's frame-time budget and what the previous frame measured (zeros before the first
+// frame), so that a technique can hold a frame time.
 struct FrameBudget {
-  double frame_ms = 0.0;  // target frame time; 0 = no budget (techniques that ignore it)
+  double target_ms = 0.0;  // 0: no budget
+  double last_frame_ms = 0.0;
+  double last_select_ms = 0.0;
+  uint64_t last_triangles = 0;
+};
+
+struct FrameInput {
+  View view;
+  uint64_t frame = 0;  // counts up from 0 along a run; frame_done(frame) follows
+  Region region;
+  FrameBudget budget;
+};
+
+struct LoadContext {
+  const Scene& scene;        // outlives the technique
+  const Store* store;        // the --store pack, or null; a bake of this technique in it was
+                             // checked before (eval/run_plan.hpp: this scene, this format)
+  gpu::Device& device;       // outlives the technique: its meshes and textures
+  Progress& progress;
+};
+
+struct BakeContext {
+  const Scene& scene;
+  Store& store;              // the technique writes its blobs in transactions of its own
+  gpu::Renderer* renderer;   // a headless renderer of the scene for bakes that render
+                             // (TechniqueDescriptor::bake_renders), else null
+  Progress& progress;
 };
 
 class Technique {
  public:
   virtual ~Technique() = default;
   virtual std::string_view name() const = 0;
-  // Builds the technique's run-time structures for `scene`, which must outlive it.
-  virtual Result<void> load(const Scene& scene) = 0;
-  // Offline preprocessing into `store` (a write transaction of its own); techniques with
-  // nothing worth keeping refuse.
-  virtual Result<void> bake(const Scene& scene, Store& store, Progress& progress);
-  // Loads what bake() wrote for this scene; techniques without a bake simply load().
-  virtual Result<void> load_baked(const Scene& scene, const Store& store);
-  // Every frame; clears all of `out` first (DrawList::clear keeps its capacity).
-  virtual void select(const View& view, const FrameBudget& budget, DrawList& out) = 0;
+  // Offline preprocessing into the store. Techniques with nothing worth keeping refuse.
+  virtual Result<void> bake(const BakeContext& context);
+  // Builds the run-time structures: from the store's bake where the technique has one there,
+  // else from the scene (or refuses, for techniques that need a bake).
+  virtual Result<void> load(const LoadContext& context) = 0;
+  // Every frame: appends what to draw for `input.region` to `out` (never clears it). The
+  // list may be drawn after the next select() has begun: what it points to stays valid until
+  // frame_done(input.frame).
+  virtual void select(const FrameInput& input, DrawList& out) = 0;
+  // The frame's list has been drawn: data kept for it may go.
+  virtual void frame_done(uint64_t /*frame*/) {}
+  // After select(): the box beyond which this frame's far field stands in for the scene
+  // (stratified: its viewcell's box), or none where it drew no far field.
+  virtual std::optional<Bounds3> far_field_box() const { return std::nullopt; }
+  // Frames so far that fell back to plain geometry for want of anything better (outside a
+  // bake's region, ...).
+  virtual uint64_t fallback_frames() const { return 0; }
   // One line on what load built (nodes, depth, ...), for reports.
   virtual std::string describe() const { return {}; }
   // The same as named numbers for bench.json (e.g. paper 002's Table 1 for colorcube).
   virtual std::vector<std::pair<std::string, double>> figures() const { return {}; }
-  // Stand-in geometry that the technique's DrawList::proxies refer to, if any; valid after
-  // load() for the technique's lifetime. The renderer uploads it (Renderer::set_proxies).
-  virtual const ProxyMesh* proxies() const { return nullptr; }
   // Bird's-eye pictures (paper 000, Fig. 5-2): called after select() for `eye` with its list,
   // adds the technique's own marks (its viewcell, ...) and places stand-ins where they are.
   virtual void annotate(const View& /*eye*/, DrawList& /*list*/) const {}
@@ -52,32 +109,5 @@ class Technique {
   // none. select() has no error channel: callers check this and stop.
   virtual std::string failure() const { return {}; }
 };
-
-// Technique settings from the command line (`--set NAME.KEY=VALUE`, e.g. colorcube.depth=6):
-// each technique reads the keys under its own name and refuses the ones it does not know.
-struct TechniqueSettings {
-  std::map<std::string, std::string> values;  // "colorcube.depth" -> "6"
-
-  // Parses "NAME.KEY=VALUE"; the message names the setting and the problem.
-  Result<void> add(const std::string& assignment);
-  // The keys under `technique` ("depth" for "colorcube.depth").
-  std::map<std::string, std::string> for_technique(std::string_view technique) const;
-};
-
-// A setting's value as a finite number; the message names "--set TECHNIQUE.KEY".
-Result<double> setting_number(std::string_view technique, const std::string& key,
-                              const std::string& text);
-
-// The techniques this build knows, with a line each for --help.
-struct TechniqueInfo {
-  std::string_view name;
-  std::string_view summary;
-};
-std::span<const TechniqueInfo> known_techniques();
-
-// A new technique by name; an unknown name is an error that lists the known ones, an unknown
-// or malformed setting one that names it.
-Result<std::unique_ptr<Technique>> make_technique(std::string_view name,
-                                                  const TechniqueSettings& settings = {});
 
 }  // namespace farfield

@@ -1,21 +1,36 @@
 #include "brute_technique.hpp"
 
-#include "farfield/techniques/object_set.hpp"
-
 namespace farfield {
 
-Result<void> BruteTechnique::load(const Scene& scene) {
-  ObjectSet all(scene);
-  all.insert_all();
+const TechniqueDescriptor brute_descriptor{
+    .name = "brute",
+    .summary = "every object every frame (the reference)",
+    .make = [](const SettingValues&, const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
+      return std::unique_ptr<Technique>(std::make_unique<BruteTechnique>());
+    },
+};
+
+Result<void> BruteTechnique::load(const LoadContext& context) {
+  scene_ = &context.scene;
+  near_ = std::make_unique<ObjectSet>(context.scene);
+  near_->insert_all();
   everything_.clear();
-  all.emit(everything_);
+  near_->emit(everything_);
   return {};
 }
 
-void BruteTechnique::select(const View&, const FrameBudget&, DrawList& out) {
-  out.clear();  // everything, bird's-eye lines of a previous frame included
-  out.opaque.assign(everything_.opaque.begin(), everything_.opaque.end());
-  out.transparent.assign(everything_.transparent.begin(), everything_.transparent.end());
+void BruteTechnique::select(const FrameInput& input, DrawList& out) {
+  if (input.region.kind == Region::Kind::near) {
+    near_->clear();
+    for (uint32_t i = 0; i < scene_->objects.size(); ++i)
+      if (meet(scene_->objects[i].bounds, input.region.box)) near_->insert(i);
+    near_->emit(out);
+    return;
+  }
+  if (input.region.kind == Region::Kind::far_field) return;  // brute has no far field
+  out.opaque.insert(out.opaque.end(), everything_.opaque.begin(), everything_.opaque.end());
+  out.transparent.insert(out.transparent.end(), everything_.transparent.begin(),
+                         everything_.transparent.end());
 }
 
 }  // namespace farfield

@@ -9,90 +9,122 @@
 #include <glm/trigonometric.hpp>
 
 #include "farfield/core/frustum.hpp"
+#include "farfield/store/bake_record.hpp"
 #include "farfield/store/store.hpp"
 
 namespace farfield {
 
 namespace {
 
-// Adds a proxy range, extending the last one when they touch.
-void append(DrawList& out, uint32_t first, uint32_t count) {
+// Adds a range of the cube mesh, extending the last one when they touch.
+void append(DrawList& out, MeshHandle mesh, uint32_t first, uint32_t count) {
   if (count == 0) return;
-  if (!out.proxies.empty() && out.proxies.back().first_index + out.proxies.back().index_count == first)
-    out.proxies.back().index_count += count;
+  if (!out.meshes.empty() && out.meshes.back().mesh == mesh &&
+      out.meshes.back().first_index + out.meshes.back().index_count == first)
+    out.meshes.back().index_count += count;
   else
-    out.proxies.push_back({first, count, 0});
+    out.meshes.push_back({mesh, first, count, {}});
 }
+
+constexpr SettingSpec kSettings[] = {
+    {.key = "depth", .type = SettingType::integer, .default_value = "0",
+     .help = "levels of the octree below the root; 0 derives it from the triangle density "
+             "(about 4000 triangles a leaf, paper 002 Sec. 6.4)",
+     .symbol = "octree depth (002, Table 1)", .min = 0, .max = 12, .baked = true},
+    {.key = "cluster", .type = SettingType::integer, .default_value = "4",
+     .help = "cubes per cell side", .symbol = "c (002, Sec. 4.2)", .min = 1, .max = 32,
+     .baked = true},
+    {.key = "oversampling", .type = SettingType::integer, .default_value = "1",
+     .help = "pixels per cube side when a leaf is rendered", .unit = "px",
+     .symbol = "k (002, Sec. 4.1)", .min = 1, .max = 5, .baked = true},
+    {.key = "coverage", .type = SettingType::choice, .default_value = "binary",
+     .help = "face coverage: any covered pixel (the paper's) or the covered fraction",
+     .choices = "binary|fraction", .baked = true},
+    {.key = "threshold", .type = SettingType::number, .default_value = "0",
+     .help = "a face is drawn when its coverage exceeds this", .min = 0, .max = 1,
+     .max_open = true, .baked = true},
+    {.key = "alpha", .type = SettingType::flag, .default_value = "0",
+     .help = "draw coverage as transparency (paper 002, Sec. 4.1)", .baked = true},
+    {.key = "inner_faces", .type = SettingType::choice, .default_value = "drop",
+     .help = "faces against a solid neighbour: dropped at bake, or kept as the paper does",
+     .choices = "drop|keep", .baked = true},
+    {.key = "occlusion", .type = SettingType::flag, .default_value = "1",
+     .help = "skip cells hidden behind cube faces already drawn (the image is unchanged); 0 is "
+             "the paper's walk"},
+    {.key = "pixels", .type = SettingType::number, .default_value = "1",
+     .help = "pixel tolerance: a cell is drawn as cubes when a cube covers less than this",
+     .unit = "px", .symbol = "epsilon (002, Sec. 3.1)", .min = 0, .max = 1e4, .min_open = true},
+    {.key = "threads", .type = SettingType::integer, .default_value = "0",
+     .help = "leaf bake threads; 0: all cores", .min = 0, .max = 1024},
+};
 
 }  // namespace
 
-Result<ColorcubeOptions> colorcube_options(const std::map<std::string, std::string>& settings) {
-  ColorcubeOptions o;
-  for (const auto& [key, text] : settings) {
-    if (key == "coverage") {
-      if (text != "binary" && text != "fraction")
-        return make_error("--set colorcube.coverage must be binary or fraction (got '", text, "')");
-      o.tree.leaf.coverage = text == "binary" ? CoverageMode::binary : CoverageMode::fraction;
-      continue;
-    }
-    if (key == "inner_faces") {
-      if (text != "drop" && text != "keep")
-        return make_error("--set colorcube.inner_faces must be drop or keep (got '", text, "')");
-      o.tree.drop_inner_faces = text == "drop";
-      continue;
-    }
-    auto v = setting_number("colorcube", key, text);
-    if (!v) return v.error();
-    if (key == "depth") o.tree.depth = int(*v);
-    else if (key == "cluster") o.tree.leaf.cluster = int(*v);
-    else if (key == "oversampling") o.tree.leaf.oversampling = int(*v);
-    else if (key == "threshold") o.tree.coverage_threshold = float(*v);
-    else if (key == "alpha") o.tree.coverage_as_alpha = *v != 0.0;
-    else if (key == "occlusion") o.occlusion = *v != 0.0;
-    else if (key == "pixels") o.pixel_tolerance = float(*v);
-    else if (key == "threads") o.tree.threads = int(*v);
-    else
-      return make_error("--set colorcube.", key, ": unknown setting (known: depth, cluster, "
-                        "oversampling, coverage, threshold, alpha, inner_faces, occlusion, pixels, threads)");
+const TechniqueDescriptor colorcube_descriptor{
+    .name = "colorcube",
+    .summary = "colour-cube octree walked like Barnes-Hut",
+    .paper = "002",
+    .settings = kSettings,
+    .bake = BakeUse::optional,
+    .bake_format = 1,
+    .make = [](const SettingValues& v, const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
+      ColorcubeOptions o;
+      o.tree.depth = v.integer("depth");
+      o.tree.leaf.cluster = v.integer("cluster");
+      o.tree.leaf.oversampling = v.integer("oversampling");
+      o.tree.leaf.coverage =
+          v.text("coverage") == "binary" ? CoverageMode::binary : CoverageMode::fraction;
+      o.tree.coverage_threshold = float(v.number("threshold"));
+      o.tree.coverage_as_alpha = v.flag("alpha");
+      o.tree.drop_inner_faces = v.text("inner_faces") == "drop";
+      o.occlusion = v.flag("occlusion");
+      o.pixel_tolerance = float(v.number("pixels"));
+      o.tree.threads = v.integer("threads");
+      return std::unique_ptr<Technique>(std::make_unique<ColorcubeTechnique>(o));
+    },
+};
+
+Result<void> ColorcubeTechnique::use(CubeTree tree, gpu::Device& device) {
+  tree_ = std::move(tree);
+  resources_.bind(device);
+  auto mesh = resources_.mesh(tree_.proxies.vertices, tree_.proxies.indices);
+  if (!mesh) return make_error("colorcube: ", mesh.error().message);
+  mesh_ = *mesh;
+  index_outlines();
+  stack_.reserve(8 * tree_.stats.levels + 8);
+  frames_ = cube_faces_drawn_ = leaf_triangles_drawn_ = cells_occluded_ = 0;
+  return {};
+}
+
+Result<void> ColorcubeTechnique::bake(const BakeContext& context) {
+  auto tree = build_cube_tree(context.scene, options_.tree, context.progress);
+  if (!tree) return make_error("colorcube: ", tree.error().message);
+  if (auto ok = save_cube_tree(*tree, scene_fingerprint(context.scene), context.store); !ok)
+    return ok;
+  tree_ = std::move(*tree);
+  return {};
+}
+
+Result<void> ColorcubeTechnique::load(const LoadContext& context) {
+  // A pack that holds a colour-cube bake is read; without one the tree is built now.
+  auto record = context.store ? read_bake_record(*context.store, "colorcube")
+                              : Result<std::optional<BakeRecord>>(std::optional<BakeRecord>{});
+  if (!record) return record.error();
+  if (*record) {
+    auto tree = load_cube_tree(*context.store, scene_fingerprint(context.scene));
+    if (!tree) return tree.error();
+    return use(std::move(*tree), context.device);
   }
-  if (!(o.pixel_tolerance > 0.0f)) return make_error("--set colorcube.pixels must be > 0");
-  return o;
-}
-
-Result<void> ColorcubeTechnique::load(const Scene& scene) {
-  Progress quiet(true);
-  auto tree = build_cube_tree(scene, options_.tree, quiet);
+  auto tree = build_cube_tree(context.scene, options_.tree, context.progress);
   if (!tree) return make_error("colorcube: ", tree.error().message);
-  tree_ = std::move(*tree);
-  index_outlines();
-  stack_.reserve(8 * tree_.stats.levels + 8);
-  frames_ = cube_faces_drawn_ = leaf_triangles_drawn_ = cells_occluded_ = 0;
-  return {};
+  return use(std::move(*tree), context.device);
 }
 
-Result<void> ColorcubeTechnique::bake(const Scene& scene, Store& store, Progress& progress) {
-  auto tree = build_cube_tree(scene, options_.tree, progress);
-  if (!tree) return make_error("colorcube: ", tree.error().message);
-  if (auto ok = save_cube_tree(*tree, scene_fingerprint(scene), store); !ok) return ok;
-  tree_ = std::move(*tree);
-  index_outlines();
-  stack_.reserve(8 * tree_.stats.levels + 8);
-  return {};
-}
-
-Result<void> ColorcubeTechnique::load_baked(const Scene& scene, const Store& store) {
-  auto tree = load_cube_tree(store, scene_fingerprint(scene));
-  if (!tree) return tree.error();
-  tree_ = std::move(*tree);
-  index_outlines();
-  frames_ = cube_faces_drawn_ = leaf_triangles_drawn_ = cells_occluded_ = 0;
-  stack_.reserve(8 * tree_.stats.levels + 8);
-  return {};
-}
-
-void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& out) {
-  out.clear();
-  if (tree_.cells.empty()) return;
+void ColorcubeTechnique::select(const FrameInput& input, DrawList& out) {
+  // Colour cubes stand in for the scene everywhere: no far field of their own and no near
+  // region (DESIGN.md; a near part of composite is octree or brute).
+  if (tree_.cells.empty() || input.region.kind == Region::Kind::far_field) return;
+  const View& view = input.view;
   ++frames_;
   const Frustum frustum(view);
   const glm::vec3 eye = view.pose.position, forward = view.pose.forward();
@@ -132,14 +164,14 @@ void ColorcubeTechnique::select(const View& view, const FrameBudget&, DrawList& 
         const bool facing = face_sign(face) > 0 ? eye[a] > cell.bounds.min[a] + cube_size
                                                 : eye[a] < cell.bounds.max[a] - cube_size;
         if (!facing) continue;
-        append(out, cell.faces_begin[face], cell.faces_count[face]);
+        append(out, mesh_, cell.faces_begin[face], cell.faces_count[face]);
         cube_faces_drawn_ += cell.faces_count[face] / 6;  // two triangles a face
       }
       if (options_.occlusion) mark_occluders(index);
       continue;
     }
     if (cell.leaf()) {
-      append(out, cell.geometry_begin, cell.geometry_count);
+      append(out, mesh_, cell.geometry_begin, cell.geometry_count);
       leaf_triangles_drawn_ += cell.geometry_count / 3;
       continue;
     }

@@ -5,13 +5,12 @@
 // (each triangle once per frame); other cells recurse into their children, nearest first.
 #pragma once
 
-#include <map>
 #include <memory>
 #include <string>
 
 #include "farfield/spatial/occlusion_buffer.hpp"
 #include "farfield/techniques/colorcube/cube_tree.hpp"
-#include "farfield/techniques/technique.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 
 namespace farfield {
 
@@ -23,29 +22,28 @@ struct ColorcubeOptions {
   bool occlusion = true;
 };
 
-// Reads `depth`, `cluster`, `oversampling`, `coverage` (binary|fraction), `threshold`,
-// `alpha` (0|1), `inner_faces` (drop|keep), `occlusion` (0|1), `pixels`, `threads`.
-Result<ColorcubeOptions> colorcube_options(const std::map<std::string, std::string>& settings);
+extern const TechniqueDescriptor colorcube_descriptor;
 
 class ColorcubeTechnique final : public Technique {
  public:
   explicit ColorcubeTechnique(const ColorcubeOptions& options) : options_(options) {}
   std::string_view name() const override { return "colorcube"; }
-  Result<void> load(const Scene& scene) override;
-  Result<void> bake(const Scene& scene, Store& store, Progress& progress) override;
-  Result<void> load_baked(const Scene& scene, const Store& store) override;
-  void select(const View& view, const FrameBudget& budget, DrawList& out) override;
+  Result<void> bake(const BakeContext& context) override;
+  Result<void> load(const LoadContext& context) override;
+  void select(const FrameInput& input, DrawList& out) override;
   std::string describe() const override;
   std::vector<std::pair<std::string, double>> figures() const override;
-  const ProxyMesh* proxies() const override { return &tree_.proxies; }
   const CubeTree& tree() const { return tree_; }
 
  private:
+  Result<void> use(CubeTree tree, gpu::Device& device);
   void index_outlines();
   void mark_occluders(uint32_t cell);
 
   ColorcubeOptions options_;
   CubeTree tree_;
+  gpu::OwnedResources resources_;
+  MeshHandle mesh_;  // tree_.proxies
   std::vector<uint32_t> stack_;
   OcclusionBuffer occlusion_;
   // Boxes of cubes with an opaque outline, in cubes of the cluster (hi exclusive); those of

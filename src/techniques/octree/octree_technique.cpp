@@ -4,7 +4,49 @@
 
 namespace farfield {
 
-Result<void> OctreeTechnique::load(const Scene& scene) {
+namespace {
+
+constexpr SettingSpec kSettings[] = {
+    {.key = "depth", .type = SettingType::integer, .default_value = "12",
+     .help = "deepest level of the octree below the root", .min = 1, .max = 20},
+    {.key = "leaf_objects", .type = SettingType::integer, .default_value = "8",
+     .help = "a node holding more objects is split", .unit = "objects", .min = 1, .max = 1e6},
+};
+
+OctreeTechniqueOptions options_from(const SettingValues& v) {
+  OctreeTechniqueOptions o;
+  o.tree.max_depth = uint32_t(v.integer("depth"));
+  o.tree.objects_per_leaf = uint32_t(v.integer("leaf_objects"));
+  return o;
+}
+
+}  // namespace
+
+const TechniqueDescriptor octree_descriptor{
+    .name = "octree",
+    .summary = "octree frustum culling (plane test, objects of partial leaves tested)",
+    .paper = "004, Sec. 2.1",
+    .settings = kSettings,
+    .make = [](const SettingValues& v, const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
+      return std::unique_ptr<Technique>(std::make_unique<OctreeTechnique>("octree", options_from(v)));
+    },
+};
+
+const TechniqueDescriptor octree_paper_descriptor{
+    .name = "octree-paper",
+    .summary = "octree culling with paper 004's own corner-projection test, whole leaves drawn",
+    .paper = "004, Sec. 2.1",
+    .settings = kSettings,
+    .make = [](const SettingValues& v, const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
+      OctreeTechniqueOptions o = options_from(v);
+      o.paper_visibility_test = true;
+      o.test_objects_in_leaves = false;
+      return std::unique_ptr<Technique>(std::make_unique<OctreeTechnique>("octree-paper", o));
+    },
+};
+
+Result<void> OctreeTechnique::load(const LoadContext& context) {
+  const Scene& scene = context.scene;
   scene_ = &scene;
   std::vector<Bounds3> bounds(scene.objects.size());
   for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = scene.objects[i].bounds;
@@ -18,11 +60,13 @@ Visibility OctreeTechnique::classify(const Frustum& frustum, const Bounds3& box)
   return options_.paper_visibility_test ? frustum.classify_paper004(box) : frustum.classify(box);
 }
 
-void OctreeTechnique::select(const View& view, const FrameBudget&, DrawList& out) {
-  out.clear();
-  if (tree_.nodes.empty()) return;
+void OctreeTechnique::select(const FrameInput& input, DrawList& out) {
+  if (tree_.nodes.empty() || input.region.kind == Region::Kind::far_field) return;
   visible_->clear();
-  const Frustum frustum(view);
+  const Frustum frustum(input.view);
+  // Region::near: only what meets the box (the near field of a far-field technique).
+  const bool near = input.region.kind == Region::Kind::near;
+  const Bounds3& box = input.region.box;
   // paper 004, testVolume(): full draws the subtree, partial recurses, none skips.
   stack_.clear();
   stack_.push_back(0);
@@ -30,7 +74,7 @@ void OctreeTechnique::select(const View& view, const FrameBudget&, DrawList& out
     const OctreeNode& node = tree_.nodes[stack_.back()];
     stack_.pop_back();
     const Visibility v = classify(frustum, node.bounds);
-    if (v == Visibility::none) continue;
+    if (v == Visibility::none || (near && !meet(node.bounds, box))) continue;
     if (v == Visibility::partial && !node.leaf()) {
       for (uint32_t c = 0; c < node.child_count; ++c) stack_.push_back(node.first_child + c);
       continue;
@@ -38,7 +82,9 @@ void OctreeTechnique::select(const View& view, const FrameBudget&, DrawList& out
     const bool test = v == Visibility::partial && options_.test_objects_in_leaves;
     for (uint32_t i = node.items_begin; i < node.items_end; ++i) {
       const uint32_t object = tree_.items[i];
-      if (test && frustum.classify(scene_->objects[object].bounds) == Visibility::none) continue;
+      const Bounds3& bounds = scene_->objects[object].bounds;
+      if (test && frustum.classify(bounds) == Visibility::none) continue;
+      if (near && !meet(bounds, box)) continue;
       visible_->insert(object);
     }
   }

@@ -14,9 +14,12 @@
 #include "farfield/core/frustum.hpp"
 #include "farfield/spatial/octree.hpp"
 #include "farfield/techniques/object_set.hpp"
-#include "farfield/techniques/technique.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 
 namespace farfield {
+
+extern const TechniqueDescriptor octree_descriptor;
+extern const TechniqueDescriptor octree_paper_descriptor;
 
 struct OctreeTechniqueOptions {
   OctreeOptions tree;
@@ -29,8 +32,8 @@ class OctreeTechnique final : public Technique {
   OctreeTechnique(std::string name, const OctreeTechniqueOptions& options)
       : name_(std::move(name)), options_(options) {}
   std::string_view name() const override { return name_; }
-  Result<void> load(const Scene& scene) override;
-  void select(const View& view, const FrameBudget& budget, DrawList& out) override;
+  Result<void> load(const LoadContext& context) override;
+  void select(const FrameInput& input, DrawList& out) override;
   std::string describe() const override;
 
   const Octree& tree() const { return tree_; }

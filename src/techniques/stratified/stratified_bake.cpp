@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "farfield/core/camera_path.hpp"
-#include "farfield/gpu/context.hpp"
+#include "farfield/core/assert.hpp"
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/object_set.hpp"
@@ -126,7 +126,12 @@ Result<std::vector<std::optional<std::vector<CellKey>>>> wanted_cells(
 
 }  // namespace
 
-Result<void> StratifiedTechnique::bake(const Scene& scene, Store& store, Progress& progress) {
+Result<void> StratifiedTechnique::bake(const BakeContext& context) {
+  const Scene& scene = context.scene;
+  Store& store = context.store;
+  Progress& progress = context.progress;
+  FF_ASSERT(context.renderer != nullptr, "the stratified bake renders: it needs a renderer");
+  gpu::Renderer& renderer = *context.renderer;
   const auto start = std::chrono::steady_clock::now();
   auto region = navigable_region(options_.band, scene.bounds);
   if (!region) return region.error();
@@ -189,12 +194,8 @@ Result<void> StratifiedTechnique::bake(const Scene& scene, Store& store, Progres
     std::fprintf(stderr, "stratified: %llu of %llu viewcells already baked; continuing\n",
                  (unsigned long long)already, (unsigned long long)total);
 
-  auto context = gpu::create_headless_context();
-  if (!context) return context.error();
-  auto renderer = gpu::Renderer::create(scene);
-  if (!renderer) return renderer.error();
   const int resolution = params.resolution;
-  (*renderer)->set_offscreen(resolution, resolution);
+  renderer.set_offscreen(resolution, resolution);
 
   std::vector<Bounds3> bounds(scene.objects.size());
   for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = scene.objects[i].bounds;
@@ -209,7 +210,7 @@ Result<void> StratifiedTechnique::bake(const Scene& scene, Store& store, Progres
   for (size_t s = 0; s < trees.size() && error.empty(); ++s) {
     const ViewcellTree& tree = trees[s];
     const bool outermost = s + 1 == trees.size();
-    (*renderer)->set_clear_alpha(outermost ? 1.0f : 0.0f);
+    renderer.set_clear_alpha(outermost ? 1.0f : 0.0f);
     const std::vector<CellKey>* want = (*wanted)[s] ? &*(*wanted)[s] : nullptr;
     tree.visit(bounds, want, [&](const CellKey& key, std::span<const uint32_t> near) {
       if (std::binary_search(done[s].begin(), done[s].end(), key.packed())) return true;
@@ -247,16 +248,16 @@ Result<void> StratifiedTechnique::bake(const Scene& scene, Store& store, Progres
         if (!any) continue;
         list.clear();
         far.emit(list);
-        (*renderer)->draw_with(face_view_projection(centre, float(tree.box()), f), resolution,
+        renderer.draw_with(face_view_projection(centre, float(tree.box()), f), resolution,
                                resolution, list);
-        Image image = (*renderer)->capture();
+        Image image = renderer.capture();
         FaceImage& face = job.record.faces[size_t(f)];
         face.width = face.height = resolution;
         if (outermost) {
           face.channels = 3;
           face.pixels = std::move(image.rgb);
         } else {
-          const std::vector<uint8_t> alpha = (*renderer)->capture_alpha();
+          const std::vector<uint8_t> alpha = renderer.capture_alpha();
           face.channels = 4;
           face.pixels.resize(alpha.size() * 4);
           for (size_t p = 0; p < alpha.size(); ++p) {

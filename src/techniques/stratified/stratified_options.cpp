@@ -5,7 +5,7 @@
 #include <sstream>
 #include <vector>
 
-#include "farfield/techniques/technique.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 
 namespace farfield::stratified {
 
@@ -16,9 +16,11 @@ Result<std::vector<double>> numbers(const std::string& key, const std::string& t
   std::stringstream in(text);
   std::string part;
   while (std::getline(in, part, ',')) {
-    auto v = setting_number("stratified", key, part);
-    if (!v) return v.error();
-    out.push_back(*v);
+    char* end = nullptr;
+    const double v = std::strtod(part.c_str(), &end);
+    if (part.empty() || *end != '\0' || !std::isfinite(v))
+      return make_error("--set stratified.", key, ": '", part, "' is not a number");
+    out.push_back(v);
   }
   if (out.size() != count)
     return make_error("--set stratified.", key, ": expected ", std::to_string(count),
@@ -39,106 +41,93 @@ const char* style_name(Style style) {
   return "?";
 }
 
-Result<StratifiedOptions> stratified_options(const std::map<std::string, std::string>& settings) {
+// The descriptor's table (stratified_technique.cpp registers it).
+std::span<const SettingSpec> stratified_settings() {
+  static constexpr SettingSpec kSettings[] = {
+      {.key = "alpha", .type = SettingType::number, .default_value = "2",
+       .help = "largest angular error of a far point seen from anywhere in its viewcell",
+       .unit = "deg", .symbol = "alpha_max (000, Eq. 2.2)", .min = 0, .max = 90,
+       .min_open = true, .max_open = true, .baked = true},
+      {.key = "box", .type = SettingType::number, .default_value = "240",
+       .help = "side of the far-field box around a viewcell (the innermost with shells)",
+       .unit = "m", .symbol = "b (000, Sec. 2.2)", .min = 0, .min_open = true, .baked = true},
+      {.key = "viewcell", .type = SettingType::number, .default_value = "0",
+       .help = "viewcell side; 0: from alpha and the box (see sizing)", .unit = "m",
+       .symbol = "v (000, Eq. 2.2)", .min = 0, .baked = true},
+      {.key = "sizing", .type = SettingType::choice, .default_value = "strict",
+       .help = "viewcell length from the strict 3D bound, or from the paper's Eq. 2.2",
+       .choices = "strict|paper", .baked = true},
+      {.key = "resolution", .type = SettingType::integer, .default_value = "512",
+       .help = "pixels per box side", .unit = "px", .min = 8, .max = 4096, .baked = true},
+      {.key = "codec", .type = SettingType::choice, .default_value = "jpeg",
+       .help = "how box sides are stored", .choices = "jpeg|png", .baked = true},
+      {.key = "quality", .type = SettingType::integer, .default_value = "85",
+       .help = "JPEG quality of the box sides", .min = 1, .max = 100, .baked = true},
+      {.key = "delta", .type = SettingType::flag, .default_value = "0",
+       .help = "PNG residuals against a neighbouring viewcell (000, Sec. 3.1.4; needs codec=png)",
+       .baked = true},
+      {.key = "band", .type = SettingType::text, .default_value = "street",
+       .help = "navigable heights: street (the bottom 3 m), all, or Y0,Y1", .unit = "m",
+       .baked = true},
+      {.key = "path", .type = SettingType::text, .default_value = "",
+       .help = "bake only the viewcells this camera path passes through (bake only)"},
+      {.key = "limit", .type = SettingType::text, .default_value = "",
+       .help = "bake only the viewcells meeting the rectangle X0,Z0,X1,Z1 (bake only)",
+       .unit = "m"},
+      {.key = "shells", .type = SettingType::integer, .default_value = "1",
+       .help = "nested shells of boxes (000, Ch. 4)", .min = 1, .max = 16, .baked = true},
+      {.key = "spacing", .type = SettingType::choice, .default_value = "exponential",
+       .help = "box lengths of the shells", .choices = "linear|exponential", .baked = true},
+      {.key = "factor", .type = SettingType::number, .default_value = "0",
+       .help = "box growth from shell to shell; 0: the paper's 1.13 (exponential) or 1.72 "
+               "(linear) (000, Sec. 4.2.1)", .min = 0, .baked = true},
+      {.key = "style", .type = SettingType::choice, .default_value = "full",
+       .help = "what the walk draws (000, Sec. 5.1)",
+       .choices = "full|near|far-objects|far-texture|brute"},
+      {.key = "blend", .type = SettingType::integer, .default_value = "0",
+       .help = "fade a new far field in over this many frames (000, Sec. 7.1)",
+       .unit = "frames", .min = 0, .max = 120},
+      {.key = "lookahead", .type = SettingType::integer, .default_value = "2",
+       .help = "viewcells prefetched ahead along the velocity (000, Sec. 3.2.1)",
+       .unit = "viewcells", .min = 0, .max = 16},
+  };
+  return kSettings;
+}
+
+Result<StratifiedOptions> stratified_options(const SettingValues& v) {
   StratifiedOptions o;
-  int quality = 85;
-  std::string codec = "jpeg";
-  for (const auto& setting : settings) {
-    const std::string& key = setting.first;  // named, not bound: lambdas below capture them
-    const std::string& text = setting.second;
-    if (key == "codec") {
-      if (text != "jpeg" && text != "png")
-        return make_error("--set stratified.codec must be jpeg or png (got '", text, "')");
-      codec = text;
-    } else if (key == "band") {
-      o.band = text;
-    } else if (key == "path") {
-      o.path = text;
-    } else if (key == "limit") {
-      auto v = numbers(key, text, 4);
-      if (!v) return v.error();
-      const auto& c = *v;
-      if (!(c[0] < c[2] && c[1] < c[3]))
-        return make_error("--set stratified.limit=X0,Z0,X1,Z1 needs X0 < X1 and Z0 < Z1");
-      o.limit = Bounds3{{float(c[0]), -1e30f, float(c[1])}, {float(c[2]), 1e30f, float(c[3])}};
-    } else if (key == "sizing") {
-      if (text != "strict" && text != "paper")
-        return make_error("--set stratified.sizing must be strict or paper (got '", text, "')");
-      o.paper_sizing = text == "paper";
-    } else if (key == "spacing") {
-      if (text != "linear" && text != "exponential")
-        return make_error("--set stratified.spacing must be linear or exponential (got '", text,
-                          "')");
-      o.spacing = text == "linear" ? Spacing::linear : Spacing::exponential;
-    } else if (key == "style") {
-      bool found = false;
-      for (Style s : {Style::full, Style::near_only, Style::far_objects, Style::far_texture,
-                      Style::brute})
-        if (text == style_name(s)) o.style = s, found = true;
-      if (!found)
-        return make_error("--set stratified.style must be full, near, far-objects, far-texture "
-                          "or brute (got '", text, "')");
-    } else {
-      auto v = setting_number("stratified", key, text);
-      if (!v) return v.error();
-      const double x = *v;
-      auto whole = [&](double lo, double hi) -> Result<int> {
-        if (x != std::floor(x) || x < lo || x > hi)
-          return make_error("--set stratified.", key, " must be a whole number from ",
-                            std::to_string(int(lo)), " to ", std::to_string(int(hi)), " (got '",
-                            text, "')");
-        return int(x);
-      };
-      if (key == "alpha") {
-        if (!(x > 0 && x < 90))
-          return make_error("--set stratified.alpha: alpha_max must be in (0, 90) degrees");
-        o.alpha_deg = x;
-      } else if (key == "box") {
-        if (!(x > 0)) return make_error("--set stratified.box must be > 0 metres");
-        o.box = x;
-      } else if (key == "viewcell") {
-        if (!(x >= 0)) return make_error("--set stratified.viewcell must be >= 0 metres");
-        o.viewcell = x;
-      } else if (key == "resolution") {
-        auto r = whole(8, 4096);
-        if (!r) return r.error();
-        o.resolution = *r;
-      } else if (key == "quality") {
-        auto q = whole(1, 100);
-        if (!q) return q.error();
-        quality = *q;
-      } else if (key == "delta") {
-        auto d = whole(0, 1);
-        if (!d) return d.error();
-        o.delta = *d == 1;
-      } else if (key == "shells") {
-        auto n = whole(1, 16);
-        if (!n) return n.error();
-        o.shells = *n;
-      } else if (key == "factor") {
-        if (!(x > 1)) return make_error("--set stratified.factor must be > 1");
-        o.factor = x;
-      } else if (key == "blend") {
-        auto n = whole(0, 120);
-        if (!n) return n.error();
-        o.blend_frames = *n;
-      } else if (key == "lookahead") {
-        auto n = whole(0, 16);
-        if (!n) return n.error();
-        o.lookahead = *n;
-      } else {
-        return make_error("--set stratified.", key, ": unknown setting (known: alpha, box, "
-                          "viewcell, sizing, resolution, codec, quality, delta, band, path, limit, "
-                          "shells, spacing, factor, style, blend, lookahead)");
-      }
-    }
+  o.alpha_deg = v.number("alpha");
+  o.box = v.number("box");
+  o.viewcell = v.number("viewcell");
+  o.paper_sizing = v.text("sizing") == "paper";
+  o.resolution = v.integer("resolution");
+  const bool png = v.text("codec") == "png";
+  o.codec = png ? ImageCodec::png() : ImageCodec::jpeg(v.integer("quality"));
+  o.delta = v.flag("delta");
+  o.band = v.text("band");
+  if (auto band = navigable_region(o.band, Bounds3{{0, 0, 0}, {1, 1, 1}}); !band)
+    return band.error();
+  o.path = v.text("path");
+  if (const std::string& limit = v.text("limit"); !limit.empty()) {
+    auto c = numbers("limit", limit, 4);
+    if (!c) return c.error();
+    if (!((*c)[0] < (*c)[2] && (*c)[1] < (*c)[3]))
+      return make_error("--set stratified.limit=X0,Z0,X1,Z1 needs X0 < X1 and Z0 < Z1");
+    o.limit = Bounds3{{float((*c)[0]), -1e30f, float((*c)[1])}, {float((*c)[2]), 1e30f, float((*c)[3])}};
   }
-  o.codec = codec == "png" ? ImageCodec::png() : ImageCodec::jpeg(quality);
-  if (o.delta && codec != "png")
+  o.shells = v.integer("shells");
+  o.spacing = v.text("spacing") == "linear" ? Spacing::linear : Spacing::exponential;
+  o.factor = v.number("factor");
+  if (o.factor != 0 && !(o.factor > 1))
+    return make_error("--set stratified.factor must be > 1 (or 0 for the paper's)");
+  for (Style s : {Style::full, Style::near_only, Style::far_objects, Style::far_texture, Style::brute})
+    if (v.text("style") == style_name(s)) o.style = s;
+  o.blend_frames = v.integer("blend");
+  o.lookahead = v.integer("lookahead");
+  if (o.delta && !png)
     return make_error("--set stratified.delta=1 needs stratified.codec=png: differences of "
                       "JPEG images would add up their losses");
-  if (o.shells > 1 && o.factor == 1.0)
-    o.factor = o.spacing == Spacing::linear ? 1.72 : 1.13;  // the paper's (Sec. 4.2.1)
+  if (o.factor == 0) o.factor = o.spacing == Spacing::linear ? 1.72 : 1.13;  // Sec. 4.2.1
   if (o.viewcell > 0 && o.viewcell > o.box)
     return make_error("--set stratified.viewcell (", std::to_string(o.viewcell),
                       " m) must not exceed stratified.box (", std::to_string(o.box), " m)");

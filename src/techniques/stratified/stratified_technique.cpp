@@ -14,19 +14,51 @@ namespace farfield {
 using namespace stratified;
 
 namespace {
-constexpr size_t kSlotSets = kTextureSlots / kFaces;  // viewcells resident on the GPU at once
-constexpr size_t kCacheCells = 24;                     // decoded viewcells kept in memory
-constexpr uint32_t kCyan = 0xffffff00u;                // RGBA8, R in the low byte
+constexpr size_t kTextureSets = 42;    // viewcells resident on the GPU at once
+constexpr size_t kCacheCells = 24;     // decoded viewcells kept in memory
+constexpr uint32_t kCyan = 0xffffff00u;  // RGBA8, R in the low byte
 }  // namespace
+
+const TechniqueDescriptor stratified_descriptor{
+    .name = "stratified",
+    .summary = "viewcells with far-field boxes",
+    .paper = "000",
+    .settings = stratified_settings(),
+    .bake = BakeUse::required,
+    .bake_format = 1,
+    .bake_renders = true,
+    .describe_bake = [](const Store& store) -> Result<std::string> {
+      auto text = store.get_meta(kParamsKey);
+      if (!text) return text.error();
+      if (!*text) return std::string();
+      auto params = parse_params(**text);
+      if (!params) return make_error(store.path(), ": ", params.error().message);
+      std::string out;
+      for (size_t s = 0; s < params->shells.size(); ++s) {
+        auto cells = baked_cells(store, int(s));
+        if (!cells) return cells.error();
+        char line[160];
+        std::snprintf(line, sizeof line, "shell %zu: %zu viewcells baked, v %.2f m, box %.1f m\n",
+                      s, cells->size(), params->shells[s].viewcell, params->shells[s].box);
+        out += line;
+      }
+      return out;
+    },
+    .make = [](const SettingValues& v, const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
+      auto options = stratified_options(v);
+      if (!options) return options.error();
+      return std::unique_ptr<Technique>(std::make_unique<StratifiedTechnique>(*options));
+    },
+};
 
 StratifiedTechnique::~StratifiedTechnique() = default;
 
-Result<void> StratifiedTechnique::load(const Scene&) {
-  return make_error("stratified draws from a bake: run `farfield bake SCENE --technique "
-                    "stratified --out PACK.ffpack`, then pass --store PACK.ffpack");
-}
-
-Result<void> StratifiedTechnique::load_baked(const Scene& scene, const Store& store) {
+Result<void> StratifiedTechnique::load(const LoadContext& context) {
+  if (context.store == nullptr)
+    return make_error("stratified draws from a bake: run `farfield bake SCENE --technique "
+                      "stratified --out PACK.ffpack`, then pass --store PACK.ffpack");
+  const Scene& scene = context.scene;
+  const Store& store = *context.store;
   auto text = store.get_meta(kParamsKey);
   if (!text) return text.error();
   if (!*text)
@@ -60,12 +92,15 @@ Result<void> StratifiedTechnique::load_baked(const Scene& scene, const Store& st
   if (!loader) return loader.error();
   loader_ = std::move(*loader);
   selected_ = std::make_unique<ObjectSet>(scene);
+  resources_.bind(context.device);
+  textures_.clear();
+  for (size_t i = 0; i < kTextureSets * kFaces; ++i) textures_.push_back(resources_.texture());
   resident_.clear();
-  uploading_.clear();
+  far_box_.reset();
   current_.assign(shells_.size(), std::nullopt);
   previous_.reset();
   last_position_.reset();
-  frame_ = crossings_ = stalls_ = unbaked_frames_ = outside_frames_ = 0;
+  frame_ = crossings_ = stalls_ = unbaked_frames_ = outside_frames_ = damaged_frames_ = 0;
   return {};
 }
 
@@ -86,7 +121,7 @@ int StratifiedTechnique::make_resident(const CellId& id,
   for (int f = 0; f < kFaces; ++f)
     if (record->faces[size_t(f)].channels != 0) faces |= uint8_t(1u << f);
   size_t set = resident_.size();
-  if (set < kSlotSets) {
+  if (set < kTextureSets) {
     resident_.push_back({id, faces, frame_});
   } else {
     set = 0;  // the least recently used; never one of this frame's
@@ -98,10 +133,10 @@ int StratifiedTechnique::make_resident(const CellId& id,
   for (int f = 0; f < kFaces; ++f) {
     const FaceImage& face = record->faces[size_t(f)];
     if (face.channels == 0) continue;
-    out.uploads.push_back({uint32_t(set * kFaces + size_t(f)), face.width, face.height,
-                           face.channels, face.pixels.data()});
+    // The record owns the pixels: the list keeps it alive until it is drawn.
+    out.uploads.push_back({textures_[set * kFaces + size_t(f)], face.width, face.height,
+                           face.channels, face.pixels.data(), record});
   }
-  uploading_.push_back(record);
   return int(set);
 }
 
@@ -112,8 +147,8 @@ void StratifiedTechnique::add_box(int shell, const CellKey& key, int set, float 
   const uint8_t faces = resident_[size_t(set)].faces;
   for (int f = 0; f < kFaces; ++f)
     if (faces >> f & 1)
-      out.far_quads.push_back({face_corners(centre, float(tree.box()), f),
-                               uint32_t(size_t(set) * kFaces + size_t(f)), opacity});
+      out.backdrop.push_back({face_corners(centre, float(tree.box()), f),
+                              textures_[size_t(set) * kFaces + size_t(f)], opacity});
 }
 
 void StratifiedTechnique::prefetch_ahead(const glm::vec3& position) {
@@ -135,9 +170,12 @@ void StratifiedTechnique::prefetch_ahead(const glm::vec3& position) {
   }
 }
 
-void StratifiedTechnique::select(const View& view, const FrameBudget&, DrawList& out) {
-  out.clear();
-  uploading_.clear();  // the renderer has drawn the last frame: its uploads are done
+void StratifiedTechnique::select(const FrameInput& input, DrawList& out) {
+  const View& view = input.view;
+  // Region::far_field (composite): the box alone, the near field left to another technique.
+  // Region::near is not one of stratified's: it draws as for the whole scene.
+  const bool far_only = input.region.kind == Region::Kind::far_field;
+  far_box_.reset();
   ++frame_;
   const glm::vec3 p = view.pose.position;
   if (last_position_) velocity_ = p - *last_position_;
@@ -149,10 +187,12 @@ void StratifiedTechnique::select(const View& view, const FrameBudget&, DrawList&
     if (frustum.classify(objects[object].bounds) != Visibility::none) selected_->insert(object);
   };
   auto everything_visible = [&] {
+    if (far_only) return;  // no far field here: the caller draws the scene itself
     for (uint32_t i = 0; i < objects.size(); ++i) add_visible(i);
     selected_->emit(out);
   };
   if (options_.style == Style::brute) {  // paper 000, Sec. 5.1: every object
+    if (far_only) return;
     selected_->insert_all();
     selected_->emit(out);
     return;
@@ -169,6 +209,7 @@ void StratifiedTechnique::select(const View& view, const FrameBudget&, DrawList&
   bool stalled = false;
   const auto record = loader_->get({0, *key}, &stalled);
   if (!record) {  // damaged: failure() says so; draw correctly meanwhile
+    ++damaged_frames_;
     everything_visible();
     return;
   }
@@ -187,7 +228,8 @@ void StratifiedTechnique::select(const View& view, const FrameBudget&, DrawList&
   prefetch_ahead(p);
 
   const std::vector<uint32_t>& near = record->near;
-  switch (options_.style) {
+  const Style style = far_only ? Style::far_texture : options_.style;
+  switch (style) {
     case Style::full:
     case Style::near_only:
       for (uint32_t object : near) add_visible(object);
@@ -201,7 +243,8 @@ void StratifiedTechnique::select(const View& view, const FrameBudget&, DrawList&
   }
   selected_->emit(out);
 
-  if (options_.style == Style::full || options_.style == Style::far_texture) {
+  if (style == Style::full || style == Style::far_texture) {
+    far_box_ = shells_[0].tree.box_bounds(*key);
     // Outermost shell first: each inner box is drawn over the one around it (Ch. 4).
     for (size_t s = shells_.size(); s-- > 1;) {
       if (!current_[s]) continue;
@@ -227,9 +270,12 @@ void StratifiedTechnique::select(const View& view, const FrameBudget&, DrawList&
 }
 
 void StratifiedTechnique::annotate(const View&, DrawList& list) const {
-  list.quads_in_world = true;
+  list.backdrop_mode = BackdropMode::in_world;
   // The top side would hide the inside from above (paper 000, Fig. 5-2 shows the box open).
-  std::erase_if(list.far_quads, [](const TexturedQuad& q) { return q.slot % kFaces == 4; });
+  std::erase_if(list.backdrop, [&](const TexturedQuad& q) {
+    const auto at = std::find(textures_.begin(), textures_.end(), q.texture);
+    return at != textures_.end() && (at - textures_.begin()) % kFaces == 4;
+  });
   if (current_.empty() || !current_[0]) return;
   const Bounds3 b = shells_[0].tree.cell_bounds(*current_[0]);
   auto corner = [&](int i) {

@@ -15,10 +15,12 @@
 #include "farfield/techniques/object_set.hpp"
 #include "farfield/techniques/stratified/stratified_options.hpp"
 #include "farfield/techniques/stratified/stratified_pack.hpp"
-#include "farfield/techniques/stratified/viewcell_tree.hpp"
-#include "farfield/techniques/technique.hpp"
+#include "farfield/spatial/viewcell_tree.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 
 namespace farfield {
+
+extern const TechniqueDescriptor stratified_descriptor;
 
 class StratifiedTechnique final : public Technique {
  public:
@@ -26,10 +28,11 @@ class StratifiedTechnique final : public Technique {
       : options_(options) {}
   ~StratifiedTechnique() override;
   std::string_view name() const override { return "stratified"; }
-  Result<void> load(const Scene& scene) override;
-  Result<void> bake(const Scene& scene, Store& store, Progress& progress) override;
-  Result<void> load_baked(const Scene& scene, const Store& store) override;
-  void select(const View& view, const FrameBudget& budget, DrawList& out) override;
+  Result<void> bake(const BakeContext& context) override;
+  Result<void> load(const LoadContext& context) override;
+  void select(const FrameInput& input, DrawList& out) override;
+  std::optional<Bounds3> far_field_box() const override { return far_box_; }
+  uint64_t fallback_frames() const override { return unbaked_frames_ + outside_frames_ + damaged_frames_; }
   std::string describe() const override;
   std::vector<std::pair<std::string, double>> figures() const override;
   void annotate(const View& eye, DrawList& list) const override;
@@ -37,20 +40,20 @@ class StratifiedTechnique final : public Technique {
 
  private:
   struct Shell {
-    stratified::ViewcellTree tree;
+    ViewcellTree tree;
     std::vector<uint64_t> baked;  // packed keys, sorted
   };
-  // A viewcell's sides in renderer texture slots.
+  // A viewcell's sides in one of the sets of six textures.
   struct Resident {
     stratified::CellId id;
     uint8_t faces = 0;  // bit F: side F has an image
     uint64_t last_used = 0;
   };
-  bool baked(int shell, const stratified::CellKey& key) const;
-  // The texture-slot set holding `id`, uploading it (into `out`) if it is not resident.
+  bool baked(int shell, const CellKey& key) const;
+  // The texture set holding `id`, uploading it (into `out`) if it is not resident.
   int make_resident(const stratified::CellId& id,
                     const std::shared_ptr<const stratified::CellRecord>& record, DrawList& out);
-  void add_box(int shell, const stratified::CellKey& key, int set, float opacity,
+  void add_box(int shell, const CellKey& key, int set, float opacity,
                DrawList& out) const;
   void prefetch_ahead(const glm::vec3& position);
 
@@ -60,18 +63,20 @@ class StratifiedTechnique final : public Technique {
   std::vector<Shell> shells_;
   std::unique_ptr<stratified::CellLoader> loader_;
   std::unique_ptr<ObjectSet> selected_;
-  std::vector<Resident> resident_;  // slot set i: slots 6i .. 6i+5
-  // The viewcells this frame's uploads point into: kept until the next select().
-  std::vector<std::shared_ptr<const stratified::CellRecord>> uploading_;
+  gpu::OwnedResources resources_;
+  std::vector<TextureHandle> textures_;  // set i: textures_[6i .. 6i+5], one per box side
+  std::vector<Resident> resident_;       // set i
+  std::optional<Bounds3> far_box_;       // this frame's, for far_field_box()
   uint64_t frame_ = 0;
   std::optional<glm::vec3> last_position_;
   glm::vec3 velocity_{0.0f};  // metres per frame
   // The frame's viewcells (shell order) and, during a blend, shell 0's previous one.
-  std::vector<std::optional<stratified::CellKey>> current_;
-  std::optional<stratified::CellKey> previous_;
+  std::vector<std::optional<CellKey>> current_;
+  std::optional<CellKey> previous_;
   uint64_t crossed_at_ = 0;
   // Figures.
-  uint64_t crossings_ = 0, stalls_ = 0, unbaked_frames_ = 0, outside_frames_ = 0;
+  uint64_t crossings_ = 0, stalls_ = 0, unbaked_frames_ = 0, outside_frames_ = 0,
+           damaged_frames_ = 0;
   double bake_s_ = 0.0;
   std::string bake_summary_;  // describe() after a bake
 };

@@ -18,7 +18,7 @@
 #include "farfield/core/result.hpp"
 #include "farfield/scene/scene.hpp"
 #include "farfield/techniques/colorcube/leaf_baker.hpp"
-#include "farfield/techniques/draw_list.hpp"
+#include "farfield/gpu/draw_list.hpp"
 
 namespace farfield {
 

@@ -3,13 +3,14 @@
 // the run that sets them.
 #pragma once
 
-#include <map>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "farfield/core/bounds.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/store/store.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
 #include "farfield/techniques/stratified/viewcell_analysis.hpp"
 
 namespace farfield::stratified {
@@ -40,16 +41,17 @@ struct StratifiedOptions {
   std::optional<Bounds3> limit;  // bake only the viewcells meeting this box (x0,z0,x1,z1)
   int shells = 1;               // Ch. 4
   Spacing spacing = Spacing::exponential;
-  double factor = 1.0;          // 0 < factor: b_{i+1} from b_i (1: the paper's 1.13 / 1.72 below)
+  double factor = 1.13;         // b_{i+1} / b_i (the paper's 1.13 exponential, 1.72 linear)
   // Walk.
   Style style = Style::full;
   int blend_frames = 0;  // Sec. 7.1: fade the new far field in over this many frames
   int lookahead = 2;     // viewcells prefetched ahead along the velocity (Sec. 3.2.1)
 };
 
-// Reads the keys of `--set stratified.KEY=VALUE`; an unknown key or a bad value is an error
-// that names it.
-Result<StratifiedOptions> stratified_options(const std::map<std::string, std::string>& settings);
+// The settings table of the descriptor, and the options from its checked values; checks
+// between settings (delta needs png, ...) are errors that name them.
+std::span<const SettingSpec> stratified_settings();
+Result<StratifiedOptions> stratified_options(const SettingValues& values);
 
 // The navigable region of `band` within the scene's bounds: street is the bottom 3 m.
 Result<Bounds3> navigable_region(const std::string& band, const Bounds3& scene_bounds);

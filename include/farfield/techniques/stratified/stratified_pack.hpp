@@ -22,7 +22,7 @@
 #include "farfield/core/result.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/stratified/box_faces.hpp"
-#include "farfield/techniques/stratified/viewcell_tree.hpp"
+#include "farfield/spatial/viewcell_tree.hpp"
 
 namespace farfield::stratified {
 

@@ -25,7 +25,7 @@
 #include "farfield/core/bounds.hpp"
 #include "farfield/core/result.hpp"
 
-namespace farfield::stratified {
+namespace farfield {
 
 struct CellKey {
   std::array<uint32_t, 3> at{};  // grid position per axis
@@ -85,10 +85,4 @@ class ViewcellTree {
   std::array<uint32_t, 3> cells_{};
 };
 
-// Whether two closed boxes meet (share at least a point).
-inline bool meet(const Bounds3& a, const Bounds3& b) {
-  return a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y && b.min.y <= a.max.y &&
-         a.min.z <= b.max.z && b.min.z <= a.max.z;
-}
-
-}  // namespace farfield::stratified
+}  // namespace farfield

@@ -1,4 +1,4 @@
-#include "farfield/store/codec.hpp"
+#include "farfield/core/codec.hpp"
 
 #include <memory>
 #include <string>

@@ -1,4 +1,4 @@
-#include "farfield/techniques/stratified/viewcell_tree.hpp"
+#include "farfield/spatial/viewcell_tree.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "farfield/core/assert.hpp"
 
-namespace farfield::stratified {
+namespace farfield {
 
 namespace {
 constexpr uint32_t kMaxCellsPerAxis = 1u << 21;  // CellKey::packed's field width
@@ -158,4 +158,4 @@ bool ViewcellTree::visit(const Range& r, std::span<const Bounds3> objects,
   return true;
 }
 
-}  // namespace farfield::stratified
+}  // namespace farfield

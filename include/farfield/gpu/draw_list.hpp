@@ -1,0 +1,145 @@
+// DrawList: what techniques selected for one frame, as plain data (DESIGN.md). Several
+// techniques may append to one list (composite): every entry names what it draws, scene
+// ranges by index range, technique meshes and textures by the handles the renderer gave out
+// (gpu/device.hpp). The renderer makes the `uploads` first, then draws `opaque` scene ranges,
+// `meshes` (depth-tested, unlit, textured or not), the `backdrop`, `transparent` scene ranges
+// blended, and `lines` over the top, each in the order given. Capacity is kept between
+// frames: clear() does not free, but it does release the pixels the uploads held.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace farfield {
+
+// Names of renderer resources; 0 names none. Handed out by a gpu::Device, valid until freed.
+struct MeshHandle {
+  uint32_t id = 0;
+  explicit operator bool() const { return id != 0; }
+  bool operator==(const MeshHandle&) const = default;
+};
+struct TextureHandle {
+  uint32_t id = 0;
+  explicit operator bool() const { return id != 0; }
+  bool operator==(const TextureHandle&) const = default;
+};
+
+struct DrawRange {
+  uint32_t first_index;  // into Scene::indices, a multiple of 3
+  uint32_t index_count;  // a multiple of 3
+  uint32_t material;     // into Scene::materials
+};
+
+// Vertices of technique meshes (stand-ins: colour-cube faces, textured boxes, billboards):
+// unlit, their colour already shaded when baked; alpha < 1 is blended. Counter-clockwise
+// front faces, back faces culled.
+struct ProxyVertex {
+  glm::vec3 position;  // metres
+  uint32_t color;      // RGBA8 unorm, R in the low byte
+};
+static_assert(sizeof(ProxyVertex) == 16);
+
+// The same with texture coordinates: colour = vertex colour x texture, texels of alpha 0
+// discarded (they write no depth), other alpha blended.
+struct TexturedVertex {
+  glm::vec3 position;  // metres
+  glm::vec2 uv;        // (0, 0) is the image's top-left corner
+  uint32_t color;      // RGBA8 unorm, R in the low byte
+};
+static_assert(sizeof(TexturedVertex) == 24);
+
+struct ProxyMesh {
+  std::vector<ProxyVertex> vertices;
+  std::vector<uint32_t> indices;  // triangles
+};
+
+struct TexturedMesh {
+  std::vector<TexturedVertex> vertices;
+  std::vector<uint32_t> indices;  // triangles
+};
+
+// A range of a technique mesh's triangles, with a texture for a textured mesh (none for a
+// proxy mesh).
+struct MeshDraw {
+  MeshHandle mesh;
+  uint32_t first_index;  // into the mesh's indices, a multiple of 3
+  uint32_t index_count;  // a multiple of 3
+  TextureHandle texture;
+};
+
+// New pixels for a texture, sized by the upload (the texture is re-allocated when the size
+// changes). `pixels` stay valid while `owner` lives, and the list keeps `owner` until it is
+// cleared, so a list may be drawn after the technique that filled it has moved on to the next
+// frame (selection one frame ahead). An owner of null: the caller keeps the pixels alive
+// until the list is drawn.
+struct TextureUpload {
+  TextureHandle texture;
+  int width, height;      // pixels
+  int channels;           // 3 (RGB8) or 4 (RGBA8, alpha = coverage)
+  const uint8_t* pixels;  // rows from the top
+  std::shared_ptr<const void> owner;
+  bool mipmaps = false;   // a full mip chain, trilinear (textured meshes); else one level
+};
+
+// A quadrilateral showing a texture: corners at the image's top-left, top-right,
+// bottom-right and bottom-left. Blended with the texture's alpha times `opacity`.
+struct TexturedQuad {
+  std::array<glm::vec3, 4> corners;
+  TextureHandle texture;
+  float opacity = 1.0f;
+};
+
+// How the backdrop quads are drawn.
+enum class BackdropMode : uint8_t {
+  // Behind everything, in order, filling only what no geometry covers, so that all geometry
+  // lands in front of them (a near object that crosses the far-field box is not cut).
+  far,
+  // At their place in the world, depth-tested, both sides (bird's-eye pictures).
+  in_world,
+};
+
+// A line in the picture (bird's-eye annotations: frusta, viewcells), drawn over everything.
+struct LineSegment {
+  glm::vec3 from, to;
+  uint32_t color;  // RGBA8, R in the low byte
+};
+
+struct DrawList {
+  std::vector<DrawRange> opaque;
+  std::vector<DrawRange> transparent;
+  std::vector<MeshDraw> meshes;
+  std::vector<TextureUpload> uploads;
+  std::vector<TexturedQuad> backdrop;
+  BackdropMode backdrop_mode = BackdropMode::far;
+  std::vector<LineSegment> lines;
+
+  void clear() {
+    opaque.clear();
+    transparent.clear();
+    meshes.clear();
+    uploads.clear();
+    backdrop.clear();
+    backdrop_mode = BackdropMode::far;
+    lines.clear();
+  }
+  // Scene, mesh and backdrop triangles together (two per quad).
+  uint64_t triangle_count() const {
+    uint64_t n = 2 * backdrop.size() + mesh_triangle_count();
+    for (const auto* ranges : {&opaque, &transparent})
+      for (const auto& r : *ranges) n += r.index_count / 3;
+    return n;
+  }
+  // Of those, the technique meshes' (stand-ins: two per colour-cube face, ...).
+  uint64_t mesh_triangle_count() const {
+    uint64_t n = 0;
+    for (const auto& m : meshes) n += m.index_count / 3;
+    return n;
+  }
+};
+
+}  // namespace farfield

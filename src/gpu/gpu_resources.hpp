@@ -1,0 +1,63 @@
+// The GL objects behind the Renderer's mesh and texture handles (gpu/device.hpp). Handles are
+// slot numbers plus one; a freed slot is reused by the next resource made.
+#pragma once
+
+#include <epoxy/gl.h>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "farfield/core/result.hpp"
+#include "farfield/gpu/draw_list.hpp"
+
+namespace farfield::gpu {
+
+// Immutable storage (or dynamic with GL_DYNAMIC_STORAGE_BIT); an error message naming `what`
+// when the GL cannot allocate it.
+Result<void> make_buffer(GLuint& buffer, const char* what, size_t bytes, const void* data,
+                         GLbitfield flags);
+
+struct GpuMesh {
+  GLuint vertex_buffer = 0, index_buffer = 0, vao = 0;
+  uint32_t index_count = 0;
+  bool textured = false;
+  bool live = false;
+  uint64_t bytes = 0;
+  std::vector<uint32_t> indices;  // CPU copy: many small ranges are gathered into one draw
+};
+
+struct GpuTexture {
+  GLuint texture = 0;
+  int width = 0, height = 0;
+  bool mipmaps = false;
+  bool live = false;
+};
+
+class GpuResources {
+ public:
+  GpuResources() = default;
+  GpuResources(const GpuResources&) = delete;
+  GpuResources& operator=(const GpuResources&) = delete;
+  ~GpuResources();
+
+  // Vertices of ProxyVertex (textured = false) or TexturedVertex (true).
+  Result<MeshHandle> add_mesh(const void* vertices, size_t vertex_count, bool textured,
+                              std::span<const uint32_t> indices);
+  TextureHandle add_texture();
+  void free(MeshHandle mesh);
+  void free(TextureHandle texture);
+  // Assert that the handle is live.
+  const GpuMesh& mesh(MeshHandle handle) const;
+  const GpuTexture& texture(TextureHandle handle) const;
+  // (Re)allocates the texture when the size or mip mode changes, then writes the pixels.
+  void upload(const TextureUpload& upload);
+  uint64_t bytes() const;
+
+ private:
+  std::vector<GpuMesh> meshes_;
+  std::vector<GpuTexture> textures_;
+  std::vector<uint32_t> free_meshes_, free_textures_;  // reusable slots
+};
+
+}  // namespace farfield::gpu
