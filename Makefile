@@ -36,18 +36,22 @@ test: build
 bench: build
 	@for b in $(BUILD)/bench_*; do $$b; done
 
-# libFuzzer targets, built with clang into build-fuzz; FUZZ_SECONDS per target.
+# libFuzzer targets, built with clang into build-fuzz; FUZZ_SECONDS per target. Every reader of
+# a file or blob has one: scene files, packs (and the decoders), camera paths, bake records,
+# colour-cube trees, stratified viewcells. Seeds in fuzz/corpus/NAME, findings in build-fuzz.
 FUZZ_SECONDS ?= 60
+FUZZ_TARGETS = scene_file store camera_path bake_record cube_tree stratified_pack
 fuzz: deps
 	@cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_COMPILER=clang++-14 -DFARFIELD_FUZZ=ON -DFARFIELD_TESTS=OFF \
 	  -DFARFIELD_BENCH=OFF > /dev/null
 	@cmake --build build-fuzz -j $(JOBS)
-	@mkdir -p build-fuzz/corpus build-fuzz/corpus-store
-	build-fuzz/fuzz_scene_file -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=4096 \
-	  build-fuzz/corpus fuzz/corpus/scene_file
-	build-fuzz/fuzz_store -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=4096 \
-	  build-fuzz/corpus-store fuzz/corpus/store
+	@for t in $(FUZZ_TARGETS); do \
+	  mkdir -p build-fuzz/corpus-$$t && \
+	  build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=4096 \
+	    -artifact_prefix=build-fuzz/crash-$$t- build-fuzz/corpus-$$t fuzz/corpus/$$t \
+	    || exit 1; \
+	done
 
 clean:
 	rm -rf $(BUILD) build-fuzz

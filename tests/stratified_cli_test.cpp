@@ -32,7 +32,7 @@ uint64_t baked_count(const std::string& pack) {
   return cells ? cells->size() : 0;
 }
 
-TEST(StratifiedCli, KilledBakeResumesWithoutRedoingViewcells) {
+TEST(StratifiedCliGL, KilledBakeResumesWithoutRedoingViewcells) {
   if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
   test::TempDir dir;
   ASSERT_EQ(run_farfield("generate city -q --blocks 3 --out city.ffscene", dir.path().string())
@@ -120,7 +120,7 @@ TEST(StratifiedCli, BakeRefusesLimitsThatSelectNothing) {
   }
 }
 
-TEST(StratifiedCli, BenchStopsOnADamagedBlobAndNamesIt) {
+TEST(StratifiedCliGL, BenchStopsOnADamagedBlobAndNamesIt) {
   if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
   test::TempDir dir;
   const std::string cwd = dir.path().string();

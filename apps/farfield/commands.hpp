@@ -23,6 +23,7 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands);
 void add_bake_command(CLI::App& root, std::vector<Command>& commands);
 void add_view_command(CLI::App& root, std::vector<Command>& commands);
 void add_analyze_command(CLI::App& root, std::vector<Command>& commands);
+void add_techniques_command(CLI::App& root, std::vector<Command>& commands);
 
 // Prints "farfield: <message>" on stderr and returns 1.
 int fail(const std::string& message);

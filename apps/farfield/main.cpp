@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   add_bench_command(app, commands);
   add_view_command(app, commands);
   add_analyze_command(app, commands);
+  add_techniques_command(app, commands);
 
   try {
     app.parse(argc, argv);

@@ -122,6 +122,10 @@ Result<void> write_camera_path(const CameraPath& path, const std::string& file) 
 Result<CameraPath> read_camera_path(const std::string& file) {
   std::string text;
   if (auto ok = read_whole(file, text); !ok) return ok.error();
+  return parse_camera_path(text, file);
+}
+
+Result<CameraPath> parse_camera_path(std::string_view text, const std::string& file) {
   if (text.empty()) return make_error(file, ": file is empty");
 
   json root;

@@ -59,4 +59,14 @@ std::string techniques_help() {
   return help;
 }
 
+std::string settings_table_markdown(const TechniqueDescriptor& d) {
+  if (d.settings.empty()) return "No settings.\n";
+  std::string out = "| setting | values | paper | baked | what it does |\n|---|---|---|---|---|\n";
+  for (const SettingSpec& s : d.settings)
+    out += "| `" + std::string(d.name) + "." + std::string(s.key) + "` | " + describe_setting(s) +
+           " | " + (s.symbol.empty() ? "" : std::string(s.symbol)) + " | " +
+           (s.baked ? "yes" : "") + " | " + std::string(s.help) + " |\n";
+  return out;
+}
+
 }  // namespace farfield

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "farfield/core/result.hpp"
@@ -21,5 +22,7 @@ struct CameraPath {
 // empty paths with a message naming the file and the problem.
 Result<void> write_camera_path(const CameraPath& path, const std::string& file);
 Result<CameraPath> read_camera_path(const std::string& file);
+// The same from the file's text; messages name `file`.
+Result<CameraPath> parse_camera_path(std::string_view text, const std::string& file);
 
 }  // namespace farfield

@@ -109,5 +109,7 @@ Result<std::unique_ptr<Technique>> make_technique(std::string_view name,
 std::string describe_setting(const SettingSpec& spec);
 // --help text for every technique and its settings.
 std::string techniques_help();
+// The settings of one technique as a Markdown table (docs/techniques/NAME.md holds it).
+std::string settings_table_markdown(const TechniqueDescriptor& descriptor);
 
 }  // namespace farfield

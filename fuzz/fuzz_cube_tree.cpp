@@ -1,0 +1,66 @@
+// libFuzzer target for the colour-cube bake reader (load_cube_tree): a pack holding fuzzed
+// cells, proxy vertices, proxy indices and statistics. An accepted tree must be safe to walk:
+// every cell's ranges are followed to their vertices.
+#include <fuzzer/FuzzedDataProvider.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+
+#include "farfield/techniques/colorcube/cube_tree.hpp"
+#include "fuzz_pack.hpp"
+
+namespace {
+
+constexpr uint64_t kFingerprint = 0x1234;
+
+void put(farfield::Store& store, const char* name, const std::string& bytes) {
+  (void)store.put(name, std::as_bytes(std::span(bytes.data(), bytes.size())),
+                  farfield::Codec::kNone);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  FuzzedDataProvider in(data, size);
+  const std::string path = fuzz::scratch_pack("cube-tree");
+  fuzz::remove_pack(path);
+  {
+    auto store = farfield::Store::open(path, farfield::Store::Mode::kReadWrite);
+    if (!store) std::abort();
+    {
+      auto transaction = store->begin();
+      if (!transaction) std::abort();
+      // Whole records more often than not, so that the checks behind the size checks are met.
+      auto records = [&](size_t record) {
+        std::string bytes = in.ConsumeRandomLengthString(1 << 16);
+        if (in.ConsumeBool()) bytes.resize(bytes.size() / record * record);
+        return bytes;
+      };
+      put(*store, "colorcube/cells", records(sizeof(farfield::CubeCell)));
+      put(*store, "colorcube/proxy_vertices", records(sizeof(farfield::ProxyVertex)));
+      put(*store, "colorcube/proxy_indices", records(sizeof(uint32_t)));
+      put(*store, "colorcube/stats", records(sizeof(farfield::CubeTreeStats)));
+      (void)store->set_meta("colorcube/scene", in.ConsumeBool() ? std::to_string(kFingerprint)
+                                                                : in.ConsumeRandomLengthString(24));
+      (void)transaction->commit();
+    }
+    auto tree = farfield::load_cube_tree(*store, kFingerprint);
+    if (tree) {
+      uint64_t sum = 0;
+      for (const farfield::CubeCell& c : tree->cells) {
+        for (int f = 0; f < 6; ++f)
+          for (uint32_t k = c.faces_begin[f]; k < c.faces_begin[f] + c.faces_count[f]; ++k)
+            sum += tree->proxies.vertices[tree->proxies.indices[k]].color;
+        for (uint32_t k = c.geometry_begin; k < c.geometry_begin + c.geometry_count; ++k)
+          sum += tree->proxies.vertices[tree->proxies.indices[k]].color;
+        if (c.child_count > 0 && uint64_t(c.first_child) + c.child_count > tree->cells.size())
+          std::abort();
+      }
+      volatile uint64_t sink = sum;
+      (void)sink;
+    }
+  }
+  fuzz::remove_pack(path);
+  return 0;
+}

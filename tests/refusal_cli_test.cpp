@@ -1,0 +1,133 @@
+// Requests that bench, bake and view would fail at, or ignore, are refused before any frame is
+// drawn or file written, with a message that names what is wrong (issue 10's list).
+#include <gtest/gtest.h>
+
+#include <sqlite3.h>
+
+#include <filesystem>
+
+#include "farfield/gpu/context.hpp"
+#include "farfield/scene/scene_file.hpp"
+#include "test_util.hpp"
+
+namespace farfield {
+namespace {
+
+using test::run_farfield;
+
+// A small city, its street path, a second scene, and packs baked for the first.
+class RefusalGL : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir;
+    ok_ = gpu::create_headless_context().ok();
+    if (!ok_) return;
+    for (const std::string& args :
+         {"generate city --blocks 2 --out " + file("c.ffscene"),
+          "generate city --blocks 2 --seed 7 --out " + file("other.ffscene"),
+          "path " + file("c.ffscene") + " --kind street --frames 12 --out " + file("p.json"),
+          "bake -q " + file("c.ffscene") + " -t colorcube --out " + file("c.ffpack"),
+          "bake -q " + file("c.ffscene") + " -t stratified --set stratified.path=" + file("p.json") +
+              " --out " + file("c.ffpack")}) {
+      auto r = run_farfield(args);
+      ASSERT_EQ(r.exit_status, 0) << args << "\n" << r.output;
+    }
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  void SetUp() override {
+    if (!ok_) GTEST_SKIP() << "no GL context";
+  }
+  static std::string file(const std::string& name) { return dir_->file(name); }
+
+  // Runs a bench into a fresh folder that must not appear.
+  void expect_refused(const std::string& args, const std::string& words) {
+    const std::string out = file("out");
+    std::filesystem::remove_all(out);
+    auto r = run_farfield("bench -q --no-plot " + file("c.ffscene") + " --path " + file("p.json") +
+                          " --out " + out + " " + args);
+    EXPECT_EQ(r.exit_status, 1) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(words), std::string::npos) << args << "\n" << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << args << ": wrote its folder";
+    EXPECT_EQ(r.output.find("median_ms"), std::string::npos) << args << ": ran frames";
+  }
+
+  static test::TempDir* dir_;
+  static bool ok_;
+};
+test::TempDir* RefusalGL::dir_ = nullptr;
+bool RefusalGL::ok_ = false;
+
+TEST_F(RefusalGL, BenchChecksEverythingBeforeTheFirstFrame) {
+  expect_refused("-t stratified", "stratified draws from a bake");
+  expect_refused("-t colorcube --set colorcube.depth=13", "colorcube.depth");
+  expect_refused("-t colorcube --set colorcube.depth=6.7", "not a whole number");
+  expect_refused("-t brute,octree --set colourcube.depth=6", "unknown technique 'colourcube'");
+  expect_refused("-t brute,octree --set colorcube.depth=6", "colorcube is not among the techniques run");
+  expect_refused("-t octree --set octree.depht=3", "octree has no such setting");
+  expect_refused("-t colorcube --store " + file("c.ffpack") + " --set colorcube.cluster=2",
+                 "which a run cannot change");
+  expect_refused("-t stratified --store " + file("c.ffpack") + " --set stratified.alpha=1",
+                 "which a run cannot change");
+  expect_refused("-t teleport", "unknown technique 'teleport'");
+  expect_refused("-t composite --set composite.far=octree", "composite.far");
+  expect_refused("-t brute --interleave --pipelined", "cannot be combined");
+  // A walk setting is the run's to choose, a bake setting that agrees with the pack is fine.
+  const std::string out = file("fine");
+  auto fine = run_farfield("bench -q --no-plot " + file("c.ffscene") + " --path " + file("p.json") +
+                           " --store " + file("c.ffpack") + " -t composite --set stratified.style=near"
+                           " --set stratified.alpha=2 --samples 0 --reference-every 0 --out " + out);
+  EXPECT_EQ(fine.exit_status, 0) << fine.output;
+}
+
+TEST_F(RefusalGL, PacksOfAnotherSceneOrFormatAreRefused) {
+  // The pack was baked for c.ffscene.
+  const std::string out = file("out");
+  auto r = run_farfield("bench -q --no-plot " + file("other.ffscene") + " --path " + file("p.json") +
+                        " --store " + file("c.ffpack") + " -t colorcube --out " + out);
+  EXPECT_EQ(r.exit_status, 1);
+  EXPECT_NE(r.output.find("made for another scene"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  // A pack whose stratified bake has no record (unfinished, or from an older farfield).
+  std::filesystem::copy_file(file("c.ffpack"), file("old.ffpack"),
+                             std::filesystem::copy_options::overwrite_existing);
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(file("old.ffpack").c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db, "DELETE FROM meta WHERE key = 'stratified/bake'", nullptr, nullptr,
+                           nullptr),
+              SQLITE_OK);
+    sqlite3_close(db);
+  }
+  expect_refused("-t stratified --store " + file("old.ffpack"), "no bake record");
+}
+
+TEST_F(RefusalGL, OutputsMustBeWritable) {
+  test::write_file(file("plain.txt"), "a file, not a folder");
+  auto r = run_farfield("bench -q --no-plot " + file("c.ffscene") + " --path " + file("p.json") +
+                        " -t octree --out " + file("plain.txt") + "/report");
+  EXPECT_EQ(r.exit_status, 1);
+  EXPECT_NE(r.output.find("cannot create the output folder"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("median_ms"), std::string::npos);
+  // view checks its --record file before the window opens (no display is needed to see it).
+  auto view = run_farfield("view " + file("c.ffscene") + " --record " + file("missing/rec.json"));
+  EXPECT_EQ(view.exit_status, 1);
+  EXPECT_NE(view.output.find("missing"), std::string::npos) << view.output;
+  EXPECT_NE(view.output.find("does not exist"), std::string::npos) << view.output;
+  // bake: a technique with nothing to bake, and a pack in a folder that is not there.
+  auto nothing = run_farfield("bake " + file("c.ffscene") + " -t octree --out " + file("n.ffpack"));
+  EXPECT_EQ(nothing.exit_status, 1);
+  EXPECT_NE(nothing.output.find("nothing to bake"), std::string::npos) << nothing.output;
+  EXPECT_FALSE(std::filesystem::exists(file("n.ffpack")));
+  auto nowhere = run_farfield("bake " + file("c.ffscene") + " -t colorcube --out " +
+                              file("missing/n.ffpack"));
+  EXPECT_EQ(nowhere.exit_status, 1);
+  EXPECT_NE(nowhere.output.find("does not exist"), std::string::npos) << nowhere.output;
+  auto other = run_farfield("bake " + file("c.ffscene") + " -t colorcube --set octree.depth=3 --out " +
+                            file("n.ffpack"));
+  EXPECT_EQ(other.exit_status, 1);
+  EXPECT_NE(other.output.find("bake runs only colorcube"), std::string::npos) << other.output;
+  EXPECT_FALSE(std::filesystem::exists(file("n.ffpack")));
+}
+
+}  // namespace
+}  // namespace farfield
