@@ -161,8 +161,9 @@ BoundCheck check_error_bound(double alpha, double v, double b) {
       const glm::vec3 p = model.min + model.size() * glm::vec3(unit(rng), unit(rng), unit(rng));
       if (!bbox.contains(p)) points.push_back(p);
     }
-    for (int f = 0; f < kVerticalFaces; ++f)
+    for (int f = 0; f < kFaces; ++f)
       for (float across : {-0.3f, 0.0f, 0.3f}) {
+        if (!vertical_face(f)) continue;
         const FaceFrame frame = face_frame(f);
         const glm::vec3 p = centre + (frame.normal * 1.001f + frame.right * across) * float(b * 0.5);
         points.push_back(p);
@@ -297,7 +298,7 @@ TEST(StratifiedPack, ParamsRoundTripAndBadTextIsRefused) {
 CellRecord sample_record(uint8_t seed, int resolution) {
   CellRecord r;
   r.near = {1, 5, 9};
-  for (int f = 0; f < kVerticalFaces; ++f) {
+  for (int f = 0; f < 4; ++f) {
     FaceImage& face = r.faces[size_t(f)];
     face.width = face.height = resolution;
     face.channels = f == 3 ? 4 : 3;

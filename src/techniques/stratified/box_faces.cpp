@@ -12,16 +12,14 @@ namespace farfield::stratified {
 namespace {
 
 // Camera up of each face's view; the top and bottom look along Y, so their up is -Z / +Z.
-constexpr glm::vec3 kNormals[kFaces] = {{1, 0, 0}, {-1, 0, 0}, {0, 0, 1},
-                                        {0, 0, -1}, {0, 1, 0}, {0, -1, 0}};
-constexpr glm::vec3 kUps[kFaces] = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0},
-                                    {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+constexpr glm::vec3 kUps[kFaces] = {{0, 1, 0},  {0, 1, 0}, {0, 0, -1},
+                                    {0, 0, 1},  {0, 1, 0}, {0, 1, 0}};
 
 }  // namespace
 
 FaceFrame face_frame(int face) {
   FF_ASSERT(face >= 0 && face < kFaces, "face %d", face);
-  const glm::vec3 n = kNormals[face], up = kUps[face];
+  const glm::vec3 n = face_normal(face), up = kUps[face];
   return {n, glm::cross(n, up), up};
 }
 
@@ -54,8 +52,8 @@ FaceHit project_to_box(const glm::vec3& direction) {
   const glm::vec3 a = glm::abs(direction);
   int face;
   if (a.x >= a.y && a.x >= a.z) face = direction.x > 0 ? 0 : 1;
-  else if (a.z >= a.y) face = direction.z > 0 ? 2 : 3;
-  else face = direction.y > 0 ? 4 : 5;
+  else if (a.z >= a.y) face = direction.z > 0 ? 4 : 5;
+  else face = direction.y > 0 ? 2 : 3;
   const FaceFrame f = face_frame(face);
   const glm::vec3 on_plane = direction / glm::dot(direction, f.normal);  // normal component 1
   return {face, {0.5f * (glm::dot(on_plane, f.right) + 1.0f),

@@ -25,7 +25,7 @@ const TechniqueDescriptor stratified_descriptor{
     .paper = "000",
     .settings = stratified_settings(),
     .bake = BakeUse::required,
-    .bake_format = 1,
+    .bake_format = 2,  // 2: box sides in the order of core/cube_faces.hpp
     .bake_renders = true,
     .describe_bake = [](const Store& store) -> Result<std::string> {
       auto text = store.get_meta(kParamsKey);
@@ -274,7 +274,7 @@ void StratifiedTechnique::annotate(const View&, DrawList& list) const {
   // The top side would hide the inside from above (paper 000, Fig. 5-2 shows the box open).
   std::erase_if(list.backdrop, [&](const TexturedQuad& q) {
     const auto at = std::find(textures_.begin(), textures_.end(), q.texture);
-    return at != textures_.end() && (at - textures_.begin()) % kFaces == 4;
+    return at != textures_.end() && (at - textures_.begin()) % kFaces == 2;  // +Y
   });
   if (current_.empty() || !current_[0]) return;
   const Bounds3 b = shells_[0].tree.cell_bounds(*current_[0]);

@@ -1,13 +1,14 @@
 // Colour-cubes (paper 002, Sec. 3.3.2): a cube with one RGB value and one coverage value per
 // face, standing for the appearance of an octree cell's contents seen orthographically through
-// that face. Faces are indexed by the side the viewer stands on: 0 +X, 1 -X, 2 +Y, 3 -Y,
-// 4 +Z, 5 -Z (face 0 is what a viewer at +X, looking towards -X, sees).
+// that face. Faces in the order of core/cube_faces.hpp (0 +X, 1 -X, 2 +Y, 3 -Y, 4 +Z, 5 -Z).
 #pragma once
 
 #include <array>
 #include <span>
 
 #include <glm/vec3.hpp>
+
+#include "farfield/core/cube_faces.hpp"
 
 namespace farfield {
 
@@ -19,9 +20,6 @@ struct FaceColor {
 struct ColorCube {
   std::array<FaceColor, 6> faces{};
 };
-
-inline constexpr int face_axis(int face) { return face / 2; }
-inline constexpr int face_sign(int face) { return face % 2 == 0 ? 1 : -1; }
 
 // paper 002, Sec. 4.1: the "modified over" of a front face over a back face. It assumes the
 // two coverages overlap as little as possible, so two half-covered faces make a covered one

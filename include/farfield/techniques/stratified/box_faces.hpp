@@ -2,7 +2,7 @@
 // field is rendered from the viewcell's centre through each side, a 90 x 90 degree
 // perspective whose image plane is the side itself, so a side's image maps linearly onto it.
 //
-// Faces 0..3 are the vertical sides (+X, -X, +Z, -Z), 4 and 5 the top and bottom. Pixel
+// Faces in the order of core/cube_faces.hpp: +X, -X, +Y (top), -Y (bottom), +Z, -Z. Pixel
 // (x, y) of a face's R x R image (rows from the top) has texture coordinates
 // u = (x + 0.5) / R, v = (y + 0.5) / R, and sits at
 // centre + h (normal + (2u - 1) right + (1 - 2v) up), h = box / 2.
@@ -14,10 +14,11 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "farfield/core/cube_faces.hpp"
+
 namespace farfield::stratified {
 
-inline constexpr int kFaces = 6;
-inline constexpr int kVerticalFaces = 4;
+inline constexpr int kFaces = kCubeFaces;
 
 struct FaceFrame {
   glm::vec3 normal, right, up;  // unit, right = normal x up (as the camera sees it)
