@@ -17,7 +17,8 @@ const farfield::Scene& field() {
   static const farfield::Scene scene = [] {
     farfield::Progress quiet(true);
     const farfield::Scene tree = std::move(farfield::generate_tree({}, quiet).value());
-    return std::move(farfield::generate_field(tree, {.count = 16, .spacing = 37.35}, quiet).value());
+    return std::move(
+        farfield::generate_field(tree, {.count = 16, .spacing = 37.35}, quiet).value());
   }();
   return scene;
 }

@@ -55,8 +55,8 @@ void BM_NearObjectsOfViewcells(benchmark::State& state) {
       near += list.size();
       return true;
     });
-  state.counters["viewcells/s"] = benchmark::Counter(double(wanted.size()),
-                                                     benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["viewcells/s"] =
+      benchmark::Counter(double(wanted.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_NearObjectsOfViewcells)->Arg(100)->Unit(benchmark::kMillisecond);
 

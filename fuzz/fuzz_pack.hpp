@@ -12,8 +12,9 @@
 namespace fuzz {
 
 inline std::string scratch_pack(const char* target) {
-  const std::filesystem::path dir =
-      std::filesystem::is_directory("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
+  const std::filesystem::path dir = std::filesystem::is_directory("/dev/shm")
+                                        ? "/dev/shm"
+                                        : std::filesystem::temp_directory_path();
   return (dir / (std::string("farfield-") + target + "-" + std::to_string(::getpid()) + ".ffpack"))
       .string();
 }

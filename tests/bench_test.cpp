@@ -69,7 +69,8 @@ TEST(BenchGL, WritesEveryFieldAndOctreeMatchesBrute) {
   EXPECT_GT(octree["summary"]["psnr_ceiling_db"], 90.0);
   EXPECT_FALSE(octree["summary"].contains("psnr_db_mean_differing"));
   EXPECT_EQ(octree["frames"][0]["psnr_db"], octree["summary"]["psnr_ceiling_db"]);
-  EXPECT_LT(octree["summary"]["mean_triangles"], json["techniques"][0]["summary"]["mean_triangles"]);
+  EXPECT_LT(octree["summary"]["mean_triangles"],
+            json["techniques"][0]["summary"]["mean_triangles"]);
   EXPECT_EQ(json["techniques"][2]["frames"][3]["draw_calls"], 1);  // raw: one draw
 
   for (const char* file : {"brute_frame0000.png", "octree_frame0011.png",

@@ -52,8 +52,8 @@ TEST(Codec, ZstdRefusesWrongSizeGarbageAndTrailingBytes) {
   EXPECT_FALSE(zstd_decompress(as_bytes("not zstd at all"), 15));
   EXPECT_FALSE(zstd_decompress({}, 0));
   // Cut short: the declared size is there, the data is not.
-  EXPECT_FALSE(zstd_decompress(std::span(compressed).first(compressed.size() / 2),
-                               original.size()));
+  EXPECT_FALSE(
+      zstd_decompress(std::span(compressed).first(compressed.size() / 2), original.size()));
   compressed.push_back(std::byte{0});
   auto trailing = zstd_decompress(compressed, original.size());
   ASSERT_FALSE(trailing);

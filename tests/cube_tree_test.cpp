@@ -28,7 +28,8 @@ Scene box_field(int n) {
   for (int i = 0; i < n * n; ++i) {
     b.begin_object("box" + std::to_string(i), ObjectKind::mesh, m);
     const glm::vec3 offset(3.0f * float(i % n), 0.0f, 3.0f * float(i / n));
-    for (const Vertex& v : box.vertices) b.add_vertex(v.position + offset, unpack_normal(v.normal), v.color);
+    for (const Vertex& v : box.vertices)
+      b.add_vertex(v.position + offset, unpack_normal(v.normal), v.color);
     for (size_t k = 0; k < box.indices.size(); k += 3)
       b.add_triangle(box.indices[k], box.indices[k + 1], box.indices[k + 2]);
     b.end_object();
@@ -229,14 +230,16 @@ TEST(CubeTree, BakeIntoAStoreAndLoadItBack) {
 TEST(CubeTree, BakeCommandWritesAPackInfoDescribes) {
   test::TempDir dir;
   ASSERT_TRUE(write_scene(box_field(3), dir.file("s.ffscene")));
-  auto r = test::run_farfield("bake " + dir.file("s.ffscene") + " -t colorcube -q --set colorcube.depth=3 --out " +
-                              dir.file("s.ffpack"));
+  auto r =
+      test::run_farfield("bake " + dir.file("s.ffscene") +
+                         " -t colorcube -q --set colorcube.depth=3 --out " + dir.file("s.ffpack"));
   ASSERT_EQ(r.exit_status, 0) << r.output;
   auto info = test::run_farfield("info " + dir.file("s.ffpack"));
   EXPECT_EQ(info.exit_status, 0);
   EXPECT_NE(info.output.find("colorcube/table1"), std::string::npos) << info.output;
   // A technique without a bake refuses and leaves no pack behind.
-  auto octree = test::run_farfield("bake " + dir.file("s.ffscene") + " -t octree --out " + dir.file("o.ffpack"));
+  auto octree = test::run_farfield("bake " + dir.file("s.ffscene") + " -t octree --out " +
+                                   dir.file("o.ffpack"));
   EXPECT_EQ(octree.exit_status, 1);
   EXPECT_NE(octree.output.find("nothing to bake"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(dir.file("o.ffpack")));
@@ -305,11 +308,13 @@ TEST(ColorcubeGL, OcclusionAndDroppedInnerFacesLeaveTheImageUnchanged) {
     test::select_view(*occluded, view, list);
     occluded_triangles += list.mesh_triangle_count();
     (*renderer)->draw(view, list);
-    EXPECT_EQ(compare_images(reference, (*renderer)->capture()).differing_pixels, 0u) << "view " << k;
+    EXPECT_EQ(compare_images(reference, (*renderer)->capture()).differing_pixels, 0u)
+        << "view " << k;
     test::select_view(*culled, view, list);
     culled_triangles += list.mesh_triangle_count();
     (*renderer)->draw(view, list);
-    EXPECT_LE(compare_images(reference, (*renderer)->capture()).differing_pixels, 4u) << "view " << k;
+    EXPECT_LE(compare_images(reference, (*renderer)->capture()).differing_pixels, 4u)
+        << "view " << k;
   }
   EXPECT_LT(occluded_triangles, paper_triangles);
   EXPECT_LT(culled_triangles, occluded_triangles);
@@ -321,7 +326,8 @@ TEST(ColorcubeSettings, RefusesUnknownInnerFacesValues) {
   ASSERT_TRUE(settings.add("colorcube.inner_faces=sometimes"));
   auto t = make_technique("colorcube", settings);
   ASSERT_FALSE(t);
-  EXPECT_NE(t.error().message.find("colorcube.inner_faces"), std::string::npos) << t.error().message;
+  EXPECT_NE(t.error().message.find("colorcube.inner_faces"), std::string::npos)
+      << t.error().message;
 }
 
 }  // namespace

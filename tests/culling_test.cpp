@@ -44,10 +44,10 @@ bool any_point_visible(const View& view, const Bounds3& b, std::mt19937& rng) {
 TEST(Frustum, ClassifiesBoxesInsideOutsideAndAcross) {
   const Frustum f(looking_along_x());
   EXPECT_EQ(f.classify(box({10, -1, -1}, {12, 1, 1})), Visibility::full);
-  EXPECT_EQ(f.classify(box({-12, -1, -1}, {-10, 1, 1})), Visibility::none);  // behind
-  EXPECT_EQ(f.classify(box({10, -1, 30}, {12, 1, 32})), Visibility::none);   // far right
-  EXPECT_EQ(f.classify(box({10, -1, 5}, {12, 1, 15})), Visibility::partial);  // on the edge
-  EXPECT_EQ(f.classify(box({-1, -1, -1}, {1, 1, 1})), Visibility::partial);   // around the eye
+  EXPECT_EQ(f.classify(box({-12, -1, -1}, {-10, 1, 1})), Visibility::none);        // behind
+  EXPECT_EQ(f.classify(box({10, -1, 30}, {12, 1, 32})), Visibility::none);         // far right
+  EXPECT_EQ(f.classify(box({10, -1, 5}, {12, 1, 15})), Visibility::partial);       // on the edge
+  EXPECT_EQ(f.classify(box({-1, -1, -1}, {1, 1, 1})), Visibility::partial);        // around the eye
   EXPECT_EQ(f.classify(box({1e6f, -1, -1}, {1e6f + 1, 1, 1})), Visibility::full);  // no far plane
 }
 
@@ -172,7 +172,8 @@ TEST(Techniques, OctreeKeepsEveryVisibleObjectAndDropsMostHiddenOnes) {
     for (int i = 0; i < 900; ++i) {
       b.begin_object("b" + std::to_string(i), ObjectKind::mesh, m);
       const glm::vec3 o(3.0f * (i % 30), 0, 3.0f * (i / 30));
-      for (const Vertex& v : row.vertices) b.add_vertex(v.position + o, unpack_normal(v.normal), v.color);
+      for (const Vertex& v : row.vertices)
+        b.add_vertex(v.position + o, unpack_normal(v.normal), v.color);
       for (size_t k = 0; k < row.indices.size(); k += 3)
         b.add_triangle(row.indices[k], row.indices[k + 1], row.indices[k + 2]);
       b.end_object();

@@ -11,7 +11,8 @@ namespace farfield {
 namespace {
 
 TEST(Docs, SettingsTablesMatchTheDescriptors) {
-  const std::filesystem::path docs = std::filesystem::path(FARFIELD_SOURCE_DIR) / "docs" / "techniques";
+  const std::filesystem::path docs =
+      std::filesystem::path(FARFIELD_SOURCE_DIR) / "docs" / "techniques";
   std::string all;
   for (const auto& entry : std::filesystem::directory_iterator(docs))
     if (entry.path().extension() == ".md") all += test::read_file(entry.path().string());

@@ -31,9 +31,8 @@ TEST(OctreeGL, FramesEqualBruteOnRandomCityViews) {
 
   const Bounds3 b = city->bounds;
   std::mt19937 rng(2024);
-  std::uniform_real_distribution<float> x(b.min.x, b.max.x), z(b.min.z, b.max.z),
-      yaw(0.0f, 360.0f), street_pitch(-20.0f, 30.0f), air_pitch(-80.0f, -10.0f),
-      air_height(b.max.y, 3.0f * b.max.y);
+  std::uniform_real_distribution<float> x(b.min.x, b.max.x), z(b.min.z, b.max.z), yaw(0.0f, 360.0f),
+      street_pitch(-20.0f, 30.0f), air_pitch(-80.0f, -10.0f), air_height(b.max.y, 3.0f * b.max.y);
   DrawList all, culled;
   uint64_t culled_triangles = 0, all_triangles = 0;
   const int views = 60;
@@ -43,7 +42,8 @@ TEST(OctreeGL, FramesEqualBruteOnRandomCityViews) {
     view.height = 192;
     // Two thirds at street level (eye height above the street), a third from the air.
     const bool street = i % 3 != 2;
-    view.pose = {{x(rng), street ? 1.9f : air_height(rng), z(rng)}, yaw(rng),
+    view.pose = {{x(rng), street ? 1.9f : air_height(rng), z(rng)},
+                 yaw(rng),
                  street ? street_pitch(rng) : air_pitch(rng)};
     (*renderer)->set_offscreen(view.width, view.height);
     test::select_view(**brute, view, all);

@@ -84,9 +84,10 @@ TEST(ProxyGL, TexturedMeshesShowTheirTextureAndCutOutClearTexels) {
   // texels leaves them clear).
   const uint8_t texels[16] = {0, 0, 255, 255, 0, 0, 255, 255, 255, 255, 255, 0, 255, 255, 255, 0};
   const uint32_t white = pack_color(glm::vec4(1.0f));
-  const std::vector<TexturedVertex> vertices = {
-      {{-1, -1, -2}, {0, 1}, white}, {{-1, 2, -2}, {0, 0}, white},
-      {{1.4f, 2, -2}, {1, 0}, white}, {{1.4f, -1, -2}, {1, 1}, white}};
+  const std::vector<TexturedVertex> vertices = {{{-1, -1, -2}, {0, 1}, white},
+                                                {{-1, 2, -2}, {0, 0}, white},
+                                                {{1.4f, 2, -2}, {1, 0}, white},
+                                                {{1.4f, -1, -2}, {1, 1}, white}};
   const std::vector<uint32_t> indices = {0, 1, 2, 0, 2, 3};
   auto mesh = (*renderer)->create_textured_mesh(vertices, indices);
   ASSERT_TRUE(mesh);
@@ -127,7 +128,8 @@ TEST(ProxyGL, ManyRangesDrawTheSameAsOne) {
     const float x = -1.0f + 0.2f * float(i % 10), y = -1.0f + 0.2f * float(i / 10);
     const uint32_t color = pack_color(i % 2 ? glm::vec4(1, 1, 0, 1) : glm::vec4(0, 0, 1, 1));
     const uint32_t base = uint32_t(mesh.vertices.size());
-    mesh.vertices.insert(mesh.vertices.end(), {{{x, y, 0}, color}, {{x, y + 0.2f, 0}, color},
+    mesh.vertices.insert(mesh.vertices.end(), {{{x, y, 0}, color},
+                                               {{x, y + 0.2f, 0}, color},
                                                {{x + 0.2f, y + 0.2f, 0}, color},
                                                {{x + 0.2f, y, 0}, color}});
     mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});

@@ -27,8 +27,8 @@ class RefusalGL : public ::testing::Test {
           "generate city --blocks 2 --seed 7 --out " + file("other.ffscene"),
           "path " + file("c.ffscene") + " --kind street --frames 12 --out " + file("p.json"),
           "bake -q " + file("c.ffscene") + " -t colorcube --out " + file("c.ffpack"),
-          "bake -q " + file("c.ffscene") + " -t stratified --set stratified.path=" + file("p.json") +
-              " --out " + file("c.ffpack")}) {
+          "bake -q " + file("c.ffscene") + " -t stratified --set stratified.path=" +
+              file("p.json") + " --out " + file("c.ffpack")}) {
       auto r = run_farfield(args);
       ASSERT_EQ(r.exit_status, 0) << args << "\n" << r.output;
     }
@@ -62,7 +62,8 @@ TEST_F(RefusalGL, BenchChecksEverythingBeforeTheFirstFrame) {
   expect_refused("-t colorcube --set colorcube.depth=13", "colorcube.depth");
   expect_refused("-t colorcube --set colorcube.depth=6.7", "not a whole number");
   expect_refused("-t brute,octree --set colourcube.depth=6", "unknown technique 'colourcube'");
-  expect_refused("-t brute,octree --set colorcube.depth=6", "colorcube is not among the techniques run");
+  expect_refused("-t brute,octree --set colorcube.depth=6",
+                 "colorcube is not among the techniques run");
   expect_refused("-t octree --set octree.depht=3", "octree has no such setting");
   expect_refused("-t colorcube --store " + file("c.ffpack") + " --set colorcube.cluster=2",
                  "which a run cannot change");
@@ -74,16 +75,19 @@ TEST_F(RefusalGL, BenchChecksEverythingBeforeTheFirstFrame) {
   // A walk setting is the run's to choose, a bake setting that agrees with the pack is fine.
   const std::string out = file("fine");
   auto fine = run_farfield("bench -q --no-plot " + file("c.ffscene") + " --path " + file("p.json") +
-                           " --store " + file("c.ffpack") + " -t composite --set stratified.style=near"
-                           " --set stratified.alpha=2 --samples 0 --reference-every 0 --out " + out);
+                           " --store " + file("c.ffpack") +
+                           " -t composite --set stratified.style=near"
+                           " --set stratified.alpha=2 --samples 0 --reference-every 0 --out " +
+                           out);
   EXPECT_EQ(fine.exit_status, 0) << fine.output;
 }
 
 TEST_F(RefusalGL, PacksOfAnotherSceneOrFormatAreRefused) {
   // The pack was baked for c.ffscene.
   const std::string out = file("out");
-  auto r = run_farfield("bench -q --no-plot " + file("other.ffscene") + " --path " + file("p.json") +
-                        " --store " + file("c.ffpack") + " -t colorcube --out " + out);
+  auto r =
+      run_farfield("bench -q --no-plot " + file("other.ffscene") + " --path " + file("p.json") +
+                   " --store " + file("c.ffpack") + " -t colorcube --out " + out);
   EXPECT_EQ(r.exit_status, 1);
   EXPECT_NE(r.output.find("made for another scene"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out));
@@ -118,12 +122,12 @@ TEST_F(RefusalGL, OutputsMustBeWritable) {
   EXPECT_EQ(nothing.exit_status, 1);
   EXPECT_NE(nothing.output.find("nothing to bake"), std::string::npos) << nothing.output;
   EXPECT_FALSE(std::filesystem::exists(file("n.ffpack")));
-  auto nowhere = run_farfield("bake " + file("c.ffscene") + " -t colorcube --out " +
-                              file("missing/n.ffpack"));
+  auto nowhere =
+      run_farfield("bake " + file("c.ffscene") + " -t colorcube --out " + file("missing/n.ffpack"));
   EXPECT_EQ(nowhere.exit_status, 1);
   EXPECT_NE(nowhere.output.find("does not exist"), std::string::npos) << nowhere.output;
-  auto other = run_farfield("bake " + file("c.ffscene") + " -t colorcube --set octree.depth=3 --out " +
-                            file("n.ffpack"));
+  auto other = run_farfield("bake " + file("c.ffscene") +
+                            " -t colorcube --set octree.depth=3 --out " + file("n.ffpack"));
   EXPECT_EQ(other.exit_status, 1);
   EXPECT_NE(other.output.find("bake runs only colorcube"), std::string::npos) << other.output;
   EXPECT_FALSE(std::filesystem::exists(file("n.ffpack")));

@@ -23,7 +23,9 @@ namespace {
 
 using test::run_farfield;
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
+std::string quoted(const std::string& s) {
+  return "'" + s + "'";
+}
 
 uint64_t baked_count(const std::string& pack) {
   auto store = Store::open(pack, Store::Mode::kRead);
@@ -40,10 +42,14 @@ TEST(StratifiedCliGL, KilledBakeResumesWithoutRedoingViewcells) {
             0);
   const std::string pack = dir.file("city.ffpack");
   // About 80 viewcells of 6 m in a 48 m x 60 m piece of street level.
-  const std::vector<std::string> args = {
-      "bake", dir.file("city.ffscene"), "-t", "stratified", "--set", "stratified.viewcell=6",
-      "--set", "stratified.box=100", "--set", "stratified.resolution=128", "--set",
-      "stratified.limit=100,100,148,160", "--out", pack, "-q"};
+  const std::vector<std::string> args = {"bake",  dir.file("city.ffscene"),
+                                         "-t",    "stratified",
+                                         "--set", "stratified.viewcell=6",
+                                         "--set", "stratified.box=100",
+                                         "--set", "stratified.resolution=128",
+                                         "--set", "stratified.limit=100,100,148,160",
+                                         "--out", pack,
+                                         "-q"};
   const pid_t child = fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
@@ -71,8 +77,9 @@ TEST(StratifiedCliGL, KilledBakeResumesWithoutRedoingViewcells) {
   auto r = run_farfield(rerun);
   ASSERT_EQ(r.exit_status, 0) << r.output;
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(r.output, m, std::regex("([0-9]+) of ([0-9]+) viewcells already "
-                                                        "baked")))
+  ASSERT_TRUE(std::regex_search(r.output, m,
+                                std::regex("([0-9]+) of ([0-9]+) viewcells already "
+                                           "baked")))
       << r.output;
   const uint64_t total = std::stoull(m[2]);
   EXPECT_EQ(std::stoull(m[1]), before);
@@ -128,13 +135,15 @@ TEST(StratifiedCliGL, BenchStopsOnADamagedBlobAndNamesIt) {
   ASSERT_EQ(run_farfield("path city.ffscene --kind street --frames 20 --out street.json", cwd)
                 .exit_status,
             0);
-  auto r = run_farfield("bake city.ffscene -t stratified -q --set stratified.path=street.json "
-                        "--set stratified.resolution=64 --set stratified.box=100 --out p.ffpack",
-                        cwd);
+  auto r = run_farfield(
+      "bake city.ffscene -t stratified -q --set stratified.path=street.json "
+      "--set stratified.resolution=64 --set stratified.box=100 --out p.ffpack",
+      cwd);
   ASSERT_EQ(r.exit_status, 0) << r.output;
-  r = run_farfield("bench city.ffscene --path street.json --store p.ffpack -t stratified "
-                   "--width 128 --height 96 --no-plot -q --birdseye 200 --out ok",
-                   cwd);
+  r = run_farfield(
+      "bench city.ffscene --path street.json --store p.ffpack -t stratified "
+      "--width 128 --height 96 --no-plot -q --birdseye 200 --out ok",
+      cwd);
   ASSERT_EQ(r.exit_status, 0) << r.output;
   int birdseye = 0, diff = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir.file("ok"))) {
@@ -153,9 +162,10 @@ TEST(StratifiedCliGL, BenchStopsOnADamagedBlobAndNamesIt) {
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
-  r = run_farfield("bench city.ffscene --path street.json --store p.ffpack -t stratified "
-                   "--width 128 --height 96 --no-plot -q --out broken",
-                   cwd);
+  r = run_farfield(
+      "bench city.ffscene --path street.json --store p.ffpack -t stratified "
+      "--width 128 --height 96 --no-plot -q --out broken",
+      cwd);
   EXPECT_EQ(r.exit_status, 1);
   EXPECT_TRUE(std::regex_search(r.output, std::regex("blob 'stratified/s0/[0-9_]+/face1' is "
                                                      "corrupted")))

@@ -46,8 +46,8 @@ std::unique_ptr<Walk> bake_walk(const std::vector<std::string>& extra = {}) {
   const std::string path_file = walk->dir.file("street.json");
   EXPECT_TRUE(write_camera_path(walk->path, path_file));
   TechniqueSettings settings;
-  for (const std::string& s : std::vector<std::string>{"stratified.box=120", "stratified.resolution=128",
-                               "stratified.path=" + path_file})
+  for (const std::string& s : std::vector<std::string>{
+           "stratified.box=120", "stratified.resolution=128", "stratified.path=" + path_file})
     EXPECT_TRUE(settings.add(s));
   for (const std::string& s : extra) EXPECT_TRUE(settings.add(s));
   walk->pack = walk->dir.file("walk.ffpack");
@@ -160,8 +160,8 @@ TEST(StratifiedGL, RenderStylesSplitTheFrame) {
 // outer one, the frame stays close to brute force.
 TEST(StratifiedGL, TwoShellsNestTheirFarFields) {
   if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
-  auto walk = bake_walk({"stratified.shells=2", "stratified.spacing=linear",
-                         "stratified.factor=1.5"});
+  auto walk =
+      bake_walk({"stratified.shells=2", "stratified.spacing=linear", "stratified.factor=1.5"});
   Drawing d = draw_walk(*walk);
   ASSERT_TRUE(d.renderer && d.store);
   gpu::Renderer* renderer = d.renderer.get();
@@ -223,8 +223,8 @@ TEST(StratifiedGL, DeltaCodedPngBakeDrawsTheSameAsPlainPng) {
     }
   }
   auto bytes_a = a->total_bytes("stratified/"), bytes_b = b->total_bytes("stratified/");
-  std::printf("png %llu bytes, png with delta coding %llu bytes\n",
-              (unsigned long long)*bytes_a, (unsigned long long)*bytes_b);
+  std::printf("png %llu bytes, png with delta coding %llu bytes\n", (unsigned long long)*bytes_a,
+              (unsigned long long)*bytes_b);
   EXPECT_LT(*bytes_b, *bytes_a);
 }
 

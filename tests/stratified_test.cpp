@@ -57,7 +57,9 @@ TEST(BoxFaces, ProjectionPutsTheCornersOnTheImageCorners) {
   }
 }
 
-Bounds3 box(glm::vec3 lo, glm::vec3 hi) { return Bounds3{lo, hi}; }
+Bounds3 box(glm::vec3 lo, glm::vec3 hi) {
+  return Bounds3{lo, hi};
+}
 
 TEST(ViewcellTree, LocatesLikeTheGridAndCountsCells) {
   auto tree = ViewcellTree::create(box({0, 0, 0}, {100, 3, 47}), 5.0, 40.0);
@@ -165,7 +167,8 @@ BoundCheck check_error_bound(double alpha, double v, double b) {
       for (float across : {-0.3f, 0.0f, 0.3f}) {
         if (!vertical_face(f)) continue;
         const FaceFrame frame = face_frame(f);
-        const glm::vec3 p = centre + (frame.normal * 1.001f + frame.right * across) * float(b * 0.5);
+        const glm::vec3 p =
+            centre + (frame.normal * 1.001f + frame.right * across) * float(b * 0.5);
         points.push_back(p);
         points.push_back(centre + (p - centre) * 10.0f);  // and far beyond, the same way
       }
@@ -176,8 +179,8 @@ BoundCheck check_error_bound(double alpha, double v, double b) {
       const glm::vec2 texel = (glm::floor(hit.uv * float(resolution)) + 0.5f) / float(resolution);
       const glm::vec3 q = face_point(centre, float(b), hit.face, glm::min(texel, glm::vec2(1)));
       for (const glm::vec3& e : eyes) {
-        const double angle = glm::degrees(std::acos(std::clamp(
-            double(glm::dot(glm::normalize(p - e), glm::normalize(q - e))), -1.0, 1.0)));
+        const double angle = glm::degrees(std::acos(
+            std::clamp(double(glm::dot(glm::normalize(p - e), glm::normalize(q - e))), -1.0, 1.0)));
         // Half the texel's diagonal as seen from the eye, at the worst (face-on) angle.
         const double texel_deg =
             glm::degrees(std::atan(std::sqrt(0.5) * b / resolution / glm::length(q - e)));
@@ -196,8 +199,9 @@ TEST(StratifiedErrorBound, TexelDirectionsStayWithinAlphaMax) {
     auto v = strict_viewcell_length(alpha, b, 3.0);
     ASSERT_TRUE(v);
     const BoundCheck r = check_error_bound(alpha, *v, b);
-    std::printf("strict: alpha %.1f, v %.3f m: worst angle %.4f deg, excess over alpha + texel %.4f\n",
-                alpha, *v, r.worst_angle, r.worst_excess);
+    std::printf(
+        "strict: alpha %.1f, v %.3f m: worst angle %.4f deg, excess over alpha + texel %.4f\n",
+        alpha, *v, r.worst_angle, r.worst_excess);
     EXPECT_LE(r.worst_excess, 0.0) << "alpha " << alpha << ": worst angle " << r.worst_angle;
     EXPECT_GT(r.worst_angle, 0.8 * alpha) << "the samples should come near the bound";
   }
@@ -229,8 +233,12 @@ Result<StratifiedOptions> options_of(const std::vector<std::pair<std::string, st
 }
 
 TEST(StratifiedOptions, ParsesAndRefusesWithTheSettingsName) {
-  auto o = options_of({{"alpha", "1.5"}, {"box", "300"}, {"codec", "png"},
-                       {"delta", "1"}, {"style", "far-texture"}, {"resolution", "256"}});
+  auto o = options_of({{"alpha", "1.5"},
+                       {"box", "300"},
+                       {"codec", "png"},
+                       {"delta", "1"},
+                       {"style", "far-texture"},
+                       {"resolution", "256"}});
   ASSERT_TRUE(o) << o.error().message;
   EXPECT_EQ(o->alpha_deg, 1.5);
   EXPECT_EQ(o->box, 300);

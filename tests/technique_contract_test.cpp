@@ -89,21 +89,21 @@ TEST(TechniqueContract, OneParserRefusesWhatNoTechniqueTakes) {
     const char* assignment;
     const char* named;
   };
-  for (const Case& c : {Case{"colorcube.depth=6.7", "colorcube.depth"},
-                        Case{"colorcube.depth=13", "colorcube.depth"},
-                        Case{"colorcube.depth=six", "colorcube.depth"},
-                        Case{"colorcube.occlusion=2", "colorcube.occlusion"},
-                        Case{"colorcube.inner_faces=sometimes", "colorcube.inner_faces"},
-                        Case{"colorcube.pixels=0", "colorcube.pixels"},
-                        Case{"stratified.alpha=90", "stratified.alpha"},
-                        Case{"stratified.resolution=512.5", "stratified.resolution"},
-                        Case{"stratified.band=1,0", "stratified.band"},
-                        Case{"octree.warp=1", "octree.warp"},
-                        Case{"brute.depth=1", "brute.depth"},
-                        Case{"composite.near=colorcube", "composite.near"}}) {
+  for (const Case& c :
+       {Case{"colorcube.depth=6.7", "colorcube.depth"},
+        Case{"colorcube.depth=13", "colorcube.depth"},
+        Case{"colorcube.depth=six", "colorcube.depth"},
+        Case{"colorcube.occlusion=2", "colorcube.occlusion"},
+        Case{"colorcube.inner_faces=sometimes", "colorcube.inner_faces"},
+        Case{"colorcube.pixels=0", "colorcube.pixels"},
+        Case{"stratified.alpha=90", "stratified.alpha"},
+        Case{"stratified.resolution=512.5", "stratified.resolution"},
+        Case{"stratified.band=1,0", "stratified.band"}, Case{"octree.warp=1", "octree.warp"},
+        Case{"brute.depth=1", "brute.depth"}, Case{"composite.near=colorcube", "composite.near"}}) {
     TechniqueSettings settings;
     ASSERT_TRUE(settings.add(c.assignment)) << c.assignment;
-    const std::string technique = std::string(c.assignment).substr(0, std::string(c.assignment).find('.'));
+    const std::string technique =
+        std::string(c.assignment).substr(0, std::string(c.assignment).find('.'));
     auto t = make_technique(technique, settings);
     ASSERT_FALSE(t) << c.assignment << " was taken";
     EXPECT_NE(t.error().message.find(c.named), std::string::npos) << t.error().message;

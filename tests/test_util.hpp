@@ -31,8 +31,8 @@ Scene make_box_row(int boxes);
 
 // Loads a technique for `scene` with its resources on `device` (the renderer of a GL test; a
 // MemoryDevice that lives as long as the tests when null), from `store` when given.
-Result<void> load_technique(Technique& technique, const Scene& scene,
-                            gpu::Device* device = nullptr, const Store* store = nullptr);
+Result<void> load_technique(Technique& technique, const Scene& scene, gpu::Device* device = nullptr,
+                            const Store* store = nullptr);
 // One frame's selection of the whole scene into `list`, cleared first.
 void select_view(Technique& technique, const View& view, DrawList& list, uint64_t frame = 0);
 // Settings from "NAME.KEY=VALUE" assignments, which must be well formed.

@@ -16,12 +16,13 @@ void add_bake_command(CLI::App& root, std::vector<Command>& commands) {
   };
   auto s = std::make_shared<Settings>();
   CLI::App* cmd = root.add_subcommand(
-      "bake", "Preprocess a scene for a technique into a .ffpack store (SQLite, checksummed); "
-              "bench and view load it with --store. A colorcube bake replaces the pack's "
-              "colorcube bake; a stratified bake commits each viewcell as it goes: run it again "
-              "with the same settings after an interruption and it continues (other settings "
-              "need a new pack). Settings (--set NAME.KEY=VALUE, docs/techniques/):\n" +
-                  techniques_help());
+      "bake",
+      "Preprocess a scene for a technique into a .ffpack store (SQLite, checksummed); "
+      "bench and view load it with --store. A colorcube bake replaces the pack's "
+      "colorcube bake; a stratified bake commits each viewcell as it goes: run it again "
+      "with the same settings after an interruption and it continues (other settings "
+      "need a new pack). Settings (--set NAME.KEY=VALUE, docs/techniques/):\n" +
+          techniques_help());
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
   cmd->add_option("--technique,-t", s->technique, "The technique to bake: colorcube or stratified")
       ->required();
@@ -32,7 +33,8 @@ void add_bake_command(CLI::App& root, std::vector<Command>& commands) {
                         TechniqueSettings settings;
                         for (const std::string& setting : s->settings)
                           if (auto ok = settings.add(setting); !ok) return fail(ok.error().message);
-                        if (auto d = find_technique(s->technique); !d) return fail(d.error().message);
+                        if (auto d = find_technique(s->technique); !d)
+                          return fail(d.error().message);
                         auto scene = read_scene(s->scene);
                         if (!scene) return fail(scene.error().message);
                         Progress progress(s->quiet);

@@ -18,14 +18,16 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
     bool quiet = false, no_plot = false;
   };
   auto s = std::make_shared<Settings>();
-  const std::string technique_help = "Techniques to compare, comma-separated; brute always runs "
-                                     "first as the reference. 'raw' adds the protocol's bound "
-                                     "(every triangle in one draw). Known, with their settings "
-                                     "(--set NAME.KEY=VALUE):\n" +
-                                     techniques_help();
+  const std::string technique_help =
+      "Techniques to compare, comma-separated; brute always runs "
+      "first as the reference. 'raw' adds the protocol's bound "
+      "(every triangle in one draw). Known, with their settings "
+      "(--set NAME.KEY=VALUE):\n" +
+      techniques_help();
   CLI::App* cmd = root.add_subcommand(
-      "bench", "Play a camera path headless for each technique; write DIR/bench.json, sample "
-               "frames, difference images against brute and a frame-time plot");
+      "bench",
+      "Play a camera path headless for each technique; write DIR/bench.json, sample "
+      "frames, difference images against brute and a frame-time plot");
   cmd->add_option("scene", s->bench.scene_file, "A .ffscene file")->required();
   cmd->add_option("--store", s->bench.store_file,
                   "A .ffpack from 'farfield bake': techniques load their bake from it");

@@ -9,10 +9,12 @@ namespace farfield::cli {
 
 void add_techniques_command(CLI::App& root, std::vector<Command>& commands) {
   auto markdown = std::make_shared<bool>(false);
-  CLI::App* cmd = root.add_subcommand(
-      "techniques", "List the techniques and their settings (--set NAME.KEY=VALUE on bake, "
-                    "bench and view): type, range, unit, default, the paper's symbol");
-  cmd->add_flag("--markdown", *markdown, "One settings table per technique, as in docs/techniques/");
+  CLI::App* cmd =
+      root.add_subcommand("techniques",
+                          "List the techniques and their settings (--set NAME.KEY=VALUE on bake, "
+                          "bench and view): type, range, unit, default, the paper's symbol");
+  cmd->add_flag("--markdown", *markdown,
+                "One settings table per technique, as in docs/techniques/");
   commands.push_back({cmd, [markdown] {
                         if (!*markdown) {
                           std::fputs(techniques_help().c_str(), stdout);

@@ -207,19 +207,21 @@ int run_viewer(const ViewSettings& s) {
       if (t + 1 < techniques.size()) ImGui::SameLine();
     }
     current = size_t(selected);
-    ImGui::Text("frame %.1f ms (%.0f fps)   selection %.2f ms", smoothed_ms,
-                1000.0 / smoothed_ms, stats.select_ms);
+    ImGui::Text("frame %.1f ms (%.0f fps)   selection %.2f ms", smoothed_ms, 1000.0 / smoothed_ms,
+                stats.select_ms);
     ImGui::SliderFloat("budget ms (0: none)", &budget_ms, 0.0f, 100.0f, "%.0f");
     ImGui::Text("triangles %llu   draw calls %llu", (unsigned long long)stats.triangles,
                 (unsigned long long)stats.draw_calls);
-    ImGui::Text("at (%.1f, %.1f, %.1f)  heading %.0f  pitch %.0f", pose.position.x,
-                pose.position.y, pose.position.z, pose.yaw_deg, pose.pitch_deg);
+    ImGui::Text("at (%.1f, %.1f, %.1f)  heading %.0f  pitch %.0f", pose.position.x, pose.position.y,
+                pose.position.z, pose.yaw_deg, pose.pitch_deg);
     if (!path.frames.empty())
       ImGui::Text("path %s: frame %zu of %zu (P: %s)", path.kind.c_str(), path_frame,
                   path.frames.size(), playing ? "pause" : "play");
     if (!notice.empty()) ImGui::TextWrapped("%s", notice.c_str());
-    ImGui::TextDisabled("W/S move  A/D turn  E/Q up/down  R/F look  Shift fast  Tab/1-9 technique"
-                        "  B bird's-eye%s", birdseye ? " (on)" : "");
+    ImGui::TextDisabled(
+        "W/S move  A/D turn  E/Q up/down  R/F look  Shift fast  Tab/1-9 technique"
+        "  B bird's-eye%s",
+        birdseye ? " (on)" : "");
     ImGui::End();
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -254,18 +256,21 @@ int run_viewer(const ViewSettings& s) {
 void add_view_command(CLI::App& root, std::vector<Command>& commands) {
   auto s = std::make_shared<ViewSettings>();
   CLI::App* cmd = root.add_subcommand(
-      "view", "Walk through a scene in a window. Keys: W/S or arrows forward/back, A/D turn, "
-              "E/Q or PageUp/PageDown ascend/descend, R/F look up/down, Shift faster, Tab or 1-9 "
-              "switch technique, B bird's-eye view, P play/pause the path, Esc quit");
+      "view",
+      "Walk through a scene in a window. Keys: W/S or arrows forward/back, A/D turn, "
+      "E/Q or PageUp/PageDown ascend/descend, R/F look up/down, Shift faster, Tab or 1-9 "
+      "switch technique, B bird's-eye view, P play/pause the path, Esc quit");
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
   cmd->add_option("--path", s->path, "Camera path to play (P pauses and resumes)");
   cmd->add_option("--store", s->store, "A .ffpack from 'farfield bake' to load techniques from");
   cmd->add_option("--technique,-t", s->technique, "Technique at start")->capture_default_str();
   cmd->add_option("--set", s->settings,
                   "Technique setting NAME.KEY=VALUE, repeatable (e.g. colorcube.depth=6)");
-  cmd->add_option("--width", s->width, "Window width, pixels")->capture_default_str()
+  cmd->add_option("--width", s->width, "Window width, pixels")
+      ->capture_default_str()
       ->check(CLI::Range(64, 16384));
-  cmd->add_option("--height", s->height, "Window height, pixels")->capture_default_str()
+  cmd->add_option("--height", s->height, "Window height, pixels")
+      ->capture_default_str()
       ->check(CLI::Range(64, 16384));
   cmd->add_option("--hfov", s->hfov_deg, "Horizontal field of view, degrees")
       ->capture_default_str()

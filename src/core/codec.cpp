@@ -15,8 +15,7 @@ namespace {
 void check_image(const Image& image, const char* caller) {
   FF_ASSERT(image.width > 0 && image.height > 0 &&
                 image.rgb.size() == size_t(image.width) * size_t(image.height) * 3,
-            "%s: image %dx%d holds %zu bytes", caller, image.width, image.height,
-            image.rgb.size());
+            "%s: image %dx%d holds %zu bytes", caller, image.width, image.height, image.rgb.size());
 }
 
 struct TjDeleter {

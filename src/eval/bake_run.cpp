@@ -35,10 +35,9 @@ Result<BakeOutcome> bake_into(const Scene& scene, const TechniqueDescriptor& d,
   if (auto ok = (*technique)->bake({scene, *store, renderer.get(), progress}); !ok)
     return ok.error();
   BakeOutcome outcome;
-  outcome.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  BakeRecord record{std::string(d.name), d.bake_format, scene_fingerprint(scene), outcome.seconds,
-                    {}};
+  outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  BakeRecord record{
+      std::string(d.name), d.bake_format, scene_fingerprint(scene), outcome.seconds, {}};
   for (const SettingSpec& s : d.settings)
     if (s.baked) record.settings[std::string(s.key)] = values.text(s.key);
   if (auto ok = write_bake_record(*store, record); !ok) return ok.error();
@@ -57,7 +56,8 @@ Result<BakeOutcome> run_bake(const Scene& scene, const std::string& technique,
   auto d = find_technique(technique);
   if (!d) return d.error();
   if ((*d)->bake == BakeUse::none)
-    return make_error("technique '", technique, "' has nothing to bake; it loads in moments "
+    return make_error("technique '", technique,
+                      "' has nothing to bake; it loads in moments "
                       "from the scene (techniques that bake: colorcube, stratified)");
   for (const auto& [assignment, value] : settings.values)
     if (assignment.compare(0, technique.size() + 1, technique + ".") != 0)

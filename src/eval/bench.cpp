@@ -53,14 +53,16 @@ Result<void> check_options(const BenchOptions& o, const CameraPath& path) {
     return make_error("--width and --height must be within 16..16384 (got ",
                       std::to_string(o.width), "x", std::to_string(o.height), ")");
   if (!(o.hfov_deg > 1.0f && o.hfov_deg < 179.0f))
-    return make_error("--hfov must be within (1, 179) degrees (got ", std::to_string(o.hfov_deg), ")");
+    return make_error("--hfov must be within (1, 179) degrees (got ", std::to_string(o.hfov_deg),
+                      ")");
   if (path.frames.empty()) return make_error("the camera path has no frames");
   if (o.techniques.empty()) return make_error("--technique names no technique");
   if (!(o.budget_ms >= 0.0 && o.budget_ms <= 10000.0))
     return make_error("--budget-ms must be within 0..10000 ms");
   if (o.interleave && o.pipelined)
-    return make_error("--interleave and --pipelined cannot be combined: a pipelined run "
-                      "overlaps one technique's frames, an interleaved one alternates them");
+    return make_error(
+        "--interleave and --pipelined cannot be combined: a pipelined run "
+        "overlaps one technique's frames, an interleaved one alternates them");
   return {};
 }
 
@@ -85,7 +87,7 @@ std::string frame_file(const std::string& dir, const std::string& technique, uin
 struct Entry {
   std::unique_ptr<Technique> technique;
   TechniqueRecord record;
-  FrameTiming last;  // for the next frame's budget
+  FrameTiming last;               // for the next frame's budget
   uint64_t gpu_bytes_before = 0;  // the renderer's resources before the technique loaded
 };
 
@@ -94,8 +96,14 @@ class BenchRun {
   BenchRun(const Scene& scene, const CameraPath& path, const BenchOptions& options,
            const Store* store, const std::vector<PlannedTechnique>& plan, gpu::Renderer& renderer,
            Progress& progress)
-      : scene_(scene), path_(path), o_(options), store_(store), plan_(plan), renderer_(renderer),
-        loop_(renderer), progress_(progress),
+      : scene_(scene),
+        path_(path),
+        o_(options),
+        store_(store),
+        plan_(plan),
+        renderer_(renderer),
+        loop_(renderer),
+        progress_(progress),
         samples_(sample_frames(uint32_t(path.frames.size()), options.sample_images)) {}
 
   Result<std::vector<TechniqueRecord>> run(const std::vector<std::string>& names) {
@@ -256,13 +264,15 @@ class BenchRun {
     std::optional<Error> error;
     loop_.run_pipelined(
         *e.technique, 0, frames(), [&](uint64_t f) { return view_at(f); },
-        FrameBudget{o_.budget_ms, 0, 0, 0}, [&](uint64_t f, const FrameTiming& t) {
+        FrameBudget{o_.budget_ms, 0, 0, 0},
+        [&](uint64_t f, const FrameTiming& t) {
           FrameRecord& r = e.record.frames[f];
           r.pipelined_frame_ms = t.frame_ms;
           r.pipelined_latency_ms = t.latency_ms;
           if (!error && compared(uint32_t(f)) && e.record.name != "brute") {
             FrameRecord again;
-            if (auto ok = compare(e, uint32_t(f), again, false); !ok) error = ok.error();
+            if (auto ok = compare(e, uint32_t(f), again, false); !ok)
+              error = ok.error();
             else if (again.differing_pixels != r.differing_pixels)
               error = make_error(e.record.name, ": frame ", std::to_string(f),
                                  " drawn pipelined differs from the same frame drawn in turn");

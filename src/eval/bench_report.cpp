@@ -21,8 +21,8 @@ const TechniqueRecord* find_brute(const BenchReport& report) {
 
 }  // namespace
 
-std::string bench_json(const BenchReport& report, const BenchOptions& options,
-                       const Scene& scene, const CameraPath& path) {
+std::string bench_json(const BenchReport& report, const BenchOptions& options, const Scene& scene,
+                       const CameraPath& path) {
   json root;
   root["scene"] = {{"file", options.scene_file},
                    {"triangles", scene.triangle_count()},
@@ -42,8 +42,8 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options,
     const BenchSummary s = summarize(t, brute, options.width, options.height);
     json frames = json::array();
     for (const FrameRecord& f : t.frames) {
-      json frame = {{"frame_ms", f.frame_ms},   {"cpu_ms", f.cpu_ms},
-                    {"gpu_ms", f.gpu_ms},       {"triangles", f.triangles},
+      json frame = {{"frame_ms", f.frame_ms},     {"cpu_ms", f.cpu_ms},
+                    {"gpu_ms", f.gpu_ms},         {"triangles", f.triangles},
                     {"draw_calls", f.draw_calls}, {"proxy_triangles", f.proxy_triangles}};
       if (f.compared) {
         // An identical frame's PSNR is infinite, which JSON cannot hold: the ceiling instead.

@@ -16,12 +16,12 @@ struct BenchSummary {
   double psnr_ceiling_db = 0;
   double pipelined_median_ms = 0, pipelined_p99_ms = 0, pipelined_latency_median_ms = 0;
   // Against brute, frame by frame (0 for brute itself).
-  double median_ratio_to_brute = 0;       // median(this) / median(brute)
-  double triangle_ratio_to_brute = 0;     // mean triangles / brute's
+  double median_ratio_to_brute = 0;          // median(this) / median(brute)
+  double triangle_ratio_to_brute = 0;        // mean triangles / brute's
   double frames_slower_than_brute_1_1x = 0;  // fraction with frame_ms > 1.1 x brute's
 };
 
-BenchSummary summarize(const TechniqueRecord& technique, const TechniqueRecord* brute,
-                       int width, int height);
+BenchSummary summarize(const TechniqueRecord& technique, const TechniqueRecord* brute, int width,
+                       int height);
 
 }  // namespace farfield

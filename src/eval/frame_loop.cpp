@@ -70,8 +70,10 @@ void FrameLoop::draw_birdseye(Technique* technique, const View& eye, float heigh
   if (technique) technique->annotate(eye, list_);
   add_frustum_lines(eye, height * 0.5f, list_);
   const View above = birdseye_view(eye, height);
-  if (technique) renderer_.draw(above, list_);
-  else renderer_.draw_everything_at_once(above);  // the raw bound draws no lines
+  if (technique)
+    renderer_.draw(above, list_);
+  else
+    renderer_.draw_everything_at_once(above);  // the raw bound draws no lines
   renderer_.finish();
 }
 

@@ -48,8 +48,9 @@ Result<std::vector<PlannedTechnique>> plan_run(const std::vector<std::string>& n
   }
   for (const auto& [assignment, value] : settings.values) {
     const std::string technique = assignment.substr(0, assignment.find('.'));
-    const bool runs = std::any_of(running.begin(), running.end(),
-                                  [&](const TechniqueDescriptor* d) { return d->name == technique; });
+    const bool runs =
+        std::any_of(running.begin(), running.end(),
+                    [&](const TechniqueDescriptor* d) { return d->name == technique; });
     if (!runs && others_may_be_set) {
       auto d = find_technique(technique);
       if (!d) return d.error();
@@ -118,8 +119,7 @@ Result<void> check_writable_file(const std::string& file) {
   const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
   if (!std::filesystem::is_directory(folder))
     return make_error(file, ": its folder ", folder.string(), " does not exist");
-  const std::filesystem::path probe =
-      folder / (".farfield-probe-" + std::to_string(::getpid()));
+  const std::filesystem::path probe = folder / (".farfield-probe-" + std::to_string(::getpid()));
   {
     std::ofstream out(probe);
     if (!out) return make_error(file, ": its folder ", folder.string(), " is not writable");

@@ -8,8 +8,8 @@ namespace farfield::gpu {
 
 Result<MeshHandle> MemoryDevice::create_mesh(std::span<const ProxyVertex> vertices,
                                              std::span<const uint32_t> indices) {
-  meshes_.push_back({ProxyMesh{{vertices.begin(), vertices.end()}, {indices.begin(), indices.end()}},
-                     true});
+  meshes_.push_back(
+      {ProxyMesh{{vertices.begin(), vertices.end()}, {indices.begin(), indices.end()}}, true});
   return MeshHandle{uint32_t(meshes_.size())};
 }
 
@@ -44,7 +44,8 @@ void MemoryDevice::free(TextureHandle texture) {
 uint64_t MemoryDevice::resource_bytes() const {
   uint64_t bytes = 0;
   for (const Entry& e : meshes_)
-    bytes += e.mesh.vertices.size() * sizeof(ProxyVertex) + e.mesh.indices.size() * sizeof(uint32_t);
+    bytes +=
+        e.mesh.vertices.size() * sizeof(ProxyVertex) + e.mesh.indices.size() * sizeof(uint32_t);
   return bytes;
 }
 
@@ -55,7 +56,8 @@ const ProxyMesh& MemoryDevice::mesh(MeshHandle handle) const {
 }
 
 size_t MemoryDevice::live_meshes() const {
-  return size_t(std::count_if(meshes_.begin(), meshes_.end(), [](const Entry& e) { return e.live; }));
+  return size_t(
+      std::count_if(meshes_.begin(), meshes_.end(), [](const Entry& e) { return e.live; }));
 }
 
 size_t MemoryDevice::live_textures() const {

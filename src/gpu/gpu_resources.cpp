@@ -33,14 +33,14 @@ void delete_mesh(GpuMesh& m) {
   m = GpuMesh{};
 }
 
-void attribute(GLuint vao, GLuint index, GLint size, GLenum type, GLboolean normalized,
-               size_t offset) {
+}  // namespace
+
+void set_attribute(GLuint vao, GLuint index, GLint size, GLenum type, GLboolean normalized,
+                   size_t offset, GLuint binding) {
   glEnableVertexArrayAttrib(vao, index);
   glVertexArrayAttribFormat(vao, index, size, type, normalized, GLuint(offset));
-  glVertexArrayAttribBinding(vao, index, 0);
+  glVertexArrayAttribBinding(vao, index, binding);
 }
-
-}  // namespace
 
 GpuResources::~GpuResources() {
   for (GpuMesh& m : meshes_) delete_mesh(m);
@@ -71,12 +71,14 @@ Result<MeshHandle> GpuResources::add_mesh(const void* vertices, size_t vertex_co
   glVertexArrayVertexBuffer(m.vao, 0, m.vertex_buffer, 0, GLsizei(stride));
   glVertexArrayElementBuffer(m.vao, m.index_buffer);
   if (textured) {
-    attribute(m.vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE, offsetof(TexturedVertex, position));
-    attribute(m.vao, kTexcoordAttrib, 2, GL_FLOAT, GL_FALSE, offsetof(TexturedVertex, uv));
-    attribute(m.vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(TexturedVertex, color));
+    set_attribute(m.vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE,
+                  offsetof(TexturedVertex, position));
+    set_attribute(m.vao, kTexcoordAttrib, 2, GL_FLOAT, GL_FALSE, offsetof(TexturedVertex, uv));
+    set_attribute(m.vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE,
+                  offsetof(TexturedVertex, color));
   } else {
-    attribute(m.vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE, offsetof(ProxyVertex, position));
-    attribute(m.vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(ProxyVertex, color));
+    set_attribute(m.vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE, offsetof(ProxyVertex, position));
+    set_attribute(m.vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(ProxyVertex, color));
   }
   m.index_count = uint32_t(indices.size());
   m.indices.assign(indices.begin(), indices.end());
@@ -136,17 +138,16 @@ const GpuTexture& GpuResources::texture(TextureHandle handle) const {
 }
 
 void GpuResources::upload(const TextureUpload& u) {
-  FF_ASSERT(u.width > 0 && u.height > 0 && (u.channels == 3 || u.channels == 4) &&
-                u.pixels != nullptr,
-            "bad texture upload: texture %u, %dx%d, %d channels", u.texture.id, u.width, u.height,
-            u.channels);
+  FF_ASSERT(
+      u.width > 0 && u.height > 0 && (u.channels == 3 || u.channels == 4) && u.pixels != nullptr,
+      "bad texture upload: texture %u, %dx%d, %d channels", u.texture.id, u.width, u.height,
+      u.channels);
   texture(u.texture);
   GpuTexture& t = textures_[u.texture.id - 1];
   if (t.width != u.width || t.height != u.height || t.mipmaps != u.mipmaps) {
     glDeleteTextures(1, &t.texture);
     glCreateTextures(GL_TEXTURE_2D, 1, &t.texture);
-    const int levels =
-        u.mipmaps ? int(std::bit_width(unsigned(std::max(u.width, u.height)))) : 1;
+    const int levels = u.mipmaps ? int(std::bit_width(unsigned(std::max(u.width, u.height)))) : 1;
     glTextureStorage2D(t.texture, levels, GL_RGBA8, u.width, u.height);
     glTextureParameteri(t.texture, GL_TEXTURE_MIN_FILTER,
                         u.mipmaps ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);

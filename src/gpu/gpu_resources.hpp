@@ -18,6 +18,10 @@ namespace farfield::gpu {
 Result<void> make_buffer(GLuint& buffer, const char* what, size_t bytes, const void* data,
                          GLbitfield flags);
 
+// Vertex attribute `index` of `vao`, read from its binding `binding`.
+void set_attribute(GLuint vao, GLuint index, GLint size, GLenum type, GLboolean normalized,
+                   size_t offset, GLuint binding = 0);
+
 struct GpuMesh {
   GLuint vertex_buffer = 0, index_buffer = 0, vao = 0;
   uint32_t index_count = 0;

@@ -51,9 +51,9 @@ struct Renderer::State {
   // A run of consecutive MeshDraws of one mesh and texture, drawn by one call: commands in
   // the indirect buffer, or (more than kMeshRangesPerCall) indices gathered into the stream.
   struct MeshRun {
-    size_t begin, end;       // into DrawList::meshes
-    size_t first_command;    // gathered == false
-    size_t stream_offset;    // gathered == true, in indices
+    size_t begin, end;     // into DrawList::meshes
+    size_t first_command;  // gathered == false
+    size_t stream_offset;  // gathered == true, in indices
     bool gathered;
   };
   std::vector<MeshRun> runs;
@@ -111,9 +111,8 @@ struct Renderer::State {
     for (size_t b = 0; b < list.meshes.size();) {
       const MeshDraw& first = list.meshes[b];
       const GpuMesh& mesh = resources.mesh(first.mesh);
-      FF_ASSERT(mesh.textured == bool(first.texture),
-                "mesh %u is %s but its draw names texture %u", first.mesh.id,
-                mesh.textured ? "textured" : "a proxy mesh", first.texture.id);
+      FF_ASSERT(mesh.textured == bool(first.texture), "mesh %u is %s but its draw names texture %u",
+                first.mesh.id, mesh.textured ? "textured" : "a proxy mesh", first.texture.id);
       if (first.texture) resources.texture(first.texture);  // asserts that it is live
       size_t e = b;
       while (e < list.meshes.size() && list.meshes[e].mesh == first.mesh &&
@@ -121,8 +120,8 @@ struct Renderer::State {
         const MeshDraw& d = list.meshes[e];
         FF_ASSERT(d.first_index % 3 == 0 && d.index_count % 3 == 0 &&
                       uint64_t(d.first_index) + d.index_count <= mesh.index_count,
-                  "mesh range [%u, +%u) outside mesh %u's %u indices", d.first_index,
-                  d.index_count, d.mesh.id, mesh.index_count);
+                  "mesh range [%u, +%u) outside mesh %u's %u indices", d.first_index, d.index_count,
+                  d.mesh.id, mesh.index_count);
         ++e;
       }
       MeshRun run{b, e, commands.size(), stream.size(), e - b > kMeshRangesPerCall};
@@ -247,14 +246,10 @@ struct Renderer::State {
     if (quad_program == 0) {
       quad_program = build_quad_program();
       glCreateVertexArrays(1, &quad_vao);
-      glEnableVertexArrayAttrib(quad_vao, kPositionAttrib);
-      glVertexArrayAttribFormat(quad_vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE,
-                                offsetof(QuadVertex, position));
-      glVertexArrayAttribBinding(quad_vao, kPositionAttrib, 0);
-      glEnableVertexArrayAttrib(quad_vao, kTexcoordAttrib);
-      glVertexArrayAttribFormat(quad_vao, kTexcoordAttrib, 2, GL_FLOAT, GL_FALSE,
-                                offsetof(QuadVertex, texcoord));
-      glVertexArrayAttribBinding(quad_vao, kTexcoordAttrib, 0);
+      set_attribute(quad_vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE,
+                    offsetof(QuadVertex, position));
+      set_attribute(quad_vao, kTexcoordAttrib, 2, GL_FLOAT, GL_FALSE,
+                    offsetof(QuadVertex, texcoord));
     }
     static constexpr glm::vec2 kCornerTexcoords[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     quad_vertices.clear();
@@ -299,22 +294,18 @@ struct Renderer::State {
     if (proxy_program == 0) proxy_program = build_proxy_program();
     if (line_vao == 0) {
       glCreateVertexArrays(1, &line_vao);
-      glEnableVertexArrayAttrib(line_vao, kPositionAttrib);
-      glVertexArrayAttribFormat(line_vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE,
-                                offsetof(ProxyVertex, position));
-      glVertexArrayAttribBinding(line_vao, kPositionAttrib, 0);
-      glEnableVertexArrayAttrib(line_vao, kColorAttrib);
-      glVertexArrayAttribFormat(line_vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE,
-                                offsetof(ProxyVertex, color));
-      glVertexArrayAttribBinding(line_vao, kColorAttrib, 0);
+      set_attribute(line_vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE,
+                    offsetof(ProxyVertex, position));
+      set_attribute(line_vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE,
+                    offsetof(ProxyVertex, color));
     }
     line_vertices.clear();
     for (const LineSegment& l : list.lines) {
       line_vertices.push_back({l.from, l.color});
       line_vertices.push_back({l.to, l.color});
     }
-    reserve_stream(line_buffer, line_capacity, line_vao, line_vertices.size(),
-                   sizeof(ProxyVertex), "annotation lines");
+    reserve_stream(line_buffer, line_capacity, line_vao, line_vertices.size(), sizeof(ProxyVertex),
+                   "annotation lines");
     glNamedBufferSubData(line_buffer, 0, GLsizeiptr(line_vertices.size() * sizeof(ProxyVertex)),
                          line_vertices.data());
     glUseProgram(proxy_program);
@@ -376,16 +367,10 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene) {
   glVertexArrayVertexBuffer(s.vao, 1, s.material_buffer, 0, sizeof(Material));
   glVertexArrayBindingDivisor(s.vao, 1, 1);
   glVertexArrayElementBuffer(s.vao, s.index_buffer);
-  auto attribute = [&](GLuint index, GLuint binding, GLenum type, GLboolean normalized,
-                       size_t offset, GLint size = 4) {
-    glEnableVertexArrayAttrib(s.vao, index);
-    glVertexArrayAttribFormat(s.vao, index, size, type, normalized, GLuint(offset));
-    glVertexArrayAttribBinding(s.vao, index, binding);
-  };
-  attribute(kPositionAttrib, 0, GL_FLOAT, GL_FALSE, offsetof(Vertex, position), 3);
-  attribute(kNormalAttrib, 0, GL_INT_2_10_10_10_REV, GL_TRUE, offsetof(Vertex, normal));
-  attribute(kColorAttrib, 0, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(Vertex, color));
-  attribute(kMaterialAttrib, 1, GL_FLOAT, GL_FALSE, 0);
+  set_attribute(s.vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
+  set_attribute(s.vao, kNormalAttrib, 4, GL_INT_2_10_10_10_REV, GL_TRUE, offsetof(Vertex, normal));
+  set_attribute(s.vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(Vertex, color));
+  set_attribute(s.vao, kMaterialAttrib, 4, GL_FLOAT, GL_FALSE, 0, 1);  // per instance
 
   s.program = build_scene_program();
   const std::array<glm::vec3, 2> lights = light_directions();
@@ -464,12 +449,22 @@ Result<MeshHandle> Renderer::create_textured_mesh(std::span<const TexturedVertex
   return state_->resources.add_mesh(vertices.data(), vertices.size(), true, indices);
 }
 
-TextureHandle Renderer::create_texture() { return state_->resources.add_texture(); }
-void Renderer::free(MeshHandle mesh) { state_->resources.free(mesh); }
-void Renderer::free(TextureHandle texture) { state_->resources.free(texture); }
-uint64_t Renderer::resource_bytes() const { return state_->resources.bytes(); }
+TextureHandle Renderer::create_texture() {
+  return state_->resources.add_texture();
+}
+void Renderer::free(MeshHandle mesh) {
+  state_->resources.free(mesh);
+}
+void Renderer::free(TextureHandle texture) {
+  state_->resources.free(texture);
+}
+uint64_t Renderer::resource_bytes() const {
+  return state_->resources.bytes();
+}
 
-void Renderer::finish() { glFinish(); }
+void Renderer::finish() {
+  glFinish();
+}
 
 FrameStats Renderer::draw_everything_at_once(const View& view) {
   State& s = *state_;
@@ -510,7 +505,9 @@ void Renderer::set_offscreen(int width, int height) {
   s.offscreen_height = height;
 }
 
-void Renderer::set_clear_alpha(float alpha) { state_->clear_alpha = alpha; }
+void Renderer::set_clear_alpha(float alpha) {
+  state_->clear_alpha = alpha;
+}
 
 std::vector<uint8_t> Renderer::capture_alpha() {
   State& s = *state_;

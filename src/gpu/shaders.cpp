@@ -152,9 +152,13 @@ GLuint link(const char* name, const char* vertex, const char* fragment) {
 
 }  // namespace
 
-GLuint build_scene_program() { return link("scene", kVertexShader, kFragmentShader); }
+GLuint build_scene_program() {
+  return link("scene", kVertexShader, kFragmentShader);
+}
 
-GLuint build_quad_program() { return link("quad", kQuadVertexShader, kQuadFragmentShader); }
+GLuint build_quad_program() {
+  return link("quad", kQuadVertexShader, kQuadFragmentShader);
+}
 
 GLuint build_textured_program() {
   return link("textured mesh", kTexturedVertexShader, kTexturedFragmentShader);

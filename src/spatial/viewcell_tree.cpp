@@ -20,8 +20,10 @@ std::string CellKey::name() const {
 
 Result<ViewcellTree> ViewcellTree::create(const Bounds3& region, double viewcell, double box) {
   if (!(viewcell > 0.0) || !std::isfinite(viewcell))
-    return make_error("stratified.viewcell: the viewcell length must be a positive number of "
-                      "metres (got ", std::to_string(viewcell), ")");
+    return make_error(
+        "stratified.viewcell: the viewcell length must be a positive number of "
+        "metres (got ",
+        std::to_string(viewcell), ")");
   if (!(box >= viewcell) || !std::isfinite(box))
     return make_error("stratified.box: the box (", std::to_string(box),
                       " m) must be at least as long as the viewcell (", std::to_string(viewcell),
@@ -60,8 +62,10 @@ std::optional<CellKey> ViewcellTree::locate(const glm::vec3& p) const {
   while (const auto s = split(r)) {
     const auto [axis, middle] = *s;
     const double plane = double(region_.min[axis]) + middle * viewcell_;
-    if (double(p[axis]) < plane) r.hi[axis] = middle;
-    else r.lo[axis] = middle;
+    if (double(p[axis]) < plane)
+      r.hi[axis] = middle;
+    else
+      r.lo[axis] = middle;
   }
   return CellKey{r.lo};
 }
@@ -70,12 +74,15 @@ Bounds3 ViewcellTree::cell_bounds(const CellKey& key) const {
   Bounds3 b;
   for (int a = 0; a < 3; ++a) {
     b.min[a] = float(double(region_.min[a]) + key.at[a] * viewcell_);
-    b.max[a] = std::min(region_.max[a], float(double(region_.min[a]) + (key.at[a] + 1) * viewcell_));
+    b.max[a] =
+        std::min(region_.max[a], float(double(region_.min[a]) + (key.at[a] + 1) * viewcell_));
   }
   return b;
 }
 
-glm::vec3 ViewcellTree::centre(const CellKey& key) const { return cell_bounds(key).center(); }
+glm::vec3 ViewcellTree::centre(const CellKey& key) const {
+  return cell_bounds(key).center();
+}
 
 Bounds3 ViewcellTree::box_bounds(const CellKey& key) const {
   const glm::vec3 c = centre(key);

@@ -8,7 +8,9 @@ namespace farfield {
 
 namespace {
 
-std::string record_key(std::string_view technique) { return std::string(technique) + "/bake"; }
+std::string record_key(std::string_view technique) {
+  return std::string(technique) + "/bake";
+}
 
 constexpr std::string_view kSettingPrefix = "setting.";
 
@@ -71,12 +73,17 @@ Result<BakeRecord> usable_bake(const Store& store, std::string_view technique, i
   if (!*record) {
     auto blobs = store.total_bytes(name + "/");
     if (blobs && *blobs > 0)
-      return make_error(store.path(), ": its ", name, " bake is unfinished or was made by an "
+      return make_error(store.path(), ": its ", name,
+                        " bake is unfinished or was made by an "
                         "older farfield (no bake record): run the bake again (farfield bake "
-                        "SCENE --technique ", name, " --out ", store.path(), "), or re-bake it "
+                        "SCENE --technique ",
+                        name, " --out ", store.path(),
+                        "), or re-bake it "
                         "into a new pack");
-    return make_error(store.path(), ": holds no ", name, " bake (run: farfield bake SCENE "
-                      "--technique ", name, " --out ", store.path(), ")");
+    return make_error(store.path(), ": holds no ", name,
+                      " bake (run: farfield bake SCENE "
+                      "--technique ",
+                      name, " --out ", store.path(), ")");
   }
   if ((*record)->format != format)
     return make_error(store.path(), ": its ", name, " bake has format ",

@@ -92,10 +92,14 @@ using namespace detail;  // the statement helpers of store_state.hpp
 
 const char* codec_name(Codec codec) {
   switch (codec) {
-    case Codec::kNone: return "none";
-    case Codec::kZstd: return "zstd";
-    case Codec::kJpeg: return "jpeg";
-    case Codec::kPng: return "png";
+    case Codec::kNone:
+      return "none";
+    case Codec::kZstd:
+      return "zstd";
+    case Codec::kJpeg:
+      return "jpeg";
+    case Codec::kPng:
+      return "png";
   }
   return "unknown";
 }
@@ -108,8 +112,12 @@ Store::~Store() {
             state_->path.c_str());
 }
 
-const std::string& Store::path() const { return state_->path; }
-Store::Mode Store::mode() const { return state_->mode; }
+const std::string& Store::path() const {
+  return state_->path;
+}
+Store::Mode Store::mode() const {
+  return state_->mode;
+}
 
 Result<void> Store::put(std::string_view name, std::span<const std::byte> bytes, Codec codec) {
   FF_ASSERT(codec == Codec::kNone || codec == Codec::kZstd, "blob '%.*s': codec %s for bytes",
@@ -122,8 +130,8 @@ Result<void> Store::put(std::string_view name, std::span<const std::byte> bytes,
 Result<void> Store::put_image(std::string_view name, const Image& image, ImageCodec codec) {
   FF_ASSERT(is_image(codec.codec), "blob '%.*s': codec %s for an image", int(name.size()),
             name.data(), codec_name(codec.codec));
-  auto encoded = codec.codec == Codec::kJpeg ? encode_jpeg(image, codec.jpeg_quality)
-                                             : encode_png(image);
+  auto encoded =
+      codec.codec == Codec::kJpeg ? encode_jpeg(image, codec.jpeg_quality) : encode_png(image);
   if (!encoded)
     return make_error(state_->path, ": cannot write blob ", quoted(name), ": ",
                       encoded.error().message);
@@ -150,11 +158,11 @@ Result<Image> Store::get_image(std::string_view name) const {
                             "), not an image; read it with get");
         // raw_size bounds the decoder's allocation, then must match what it found.
         const uint64_t pixels = std::min(raw_size / 3, kMaxImagePixels);
-        auto image = codec == Codec::kJpeg ? decode_jpeg(stored, pixels)
-                                           : decode_png(stored, pixels);
+        auto image =
+            codec == Codec::kJpeg ? decode_jpeg(stored, pixels) : decode_png(stored, pixels);
         if (image && image->rgb.size() != raw_size)
-          return make_error("image of ", std::to_string(image->rgb.size()),
-                            " bytes, expected ", std::to_string(raw_size));
+          return make_error("image of ", std::to_string(image->rgb.size()), " bytes, expected ",
+                            std::to_string(raw_size));
         return image;
       });
 }
@@ -283,8 +291,7 @@ Result<void> Store::verify() const {
   if (rc != SQLITE_ROW) return state_->error(rc, "cannot check the pack");
   if (first != "ok") return make_error(state_->path, ": corrupted pack (", first, ")");
 
-  rc = sqlite3_prepare_v2(state_->db, "SELECT name, checksum, data FROM blobs", -1, &stmt,
-                          nullptr);
+  rc = sqlite3_prepare_v2(state_->db, "SELECT name, checksum, data FROM blobs", -1, &stmt, nullptr);
   if (rc != SQLITE_OK) return state_->error(rc, "cannot check the pack");
   Result<void> result;
   while ((rc = sqlite3_step(stmt)) == SQLITE_ROW) {

@@ -52,9 +52,15 @@ std::string describe_setting(const SettingSpec& s) {
       }
       break;
     }
-    case SettingType::flag: rule = "0 or 1"; break;
-    case SettingType::choice: rule = "one of " + choices_text(s.choices); break;
-    case SettingType::text: rule = "text"; break;
+    case SettingType::flag:
+      rule = "0 or 1";
+      break;
+    case SettingType::choice:
+      rule = "one of " + choices_text(s.choices);
+      break;
+    case SettingType::text:
+      rule = "text";
+      break;
   }
   if (!s.unit.empty()) rule += " " + std::string(s.unit);
   if (!s.default_value.empty()) rule += ", default " + std::string(s.default_value);
@@ -103,9 +109,11 @@ struct SettingsParser {
       const SettingSpec* s = d.setting(key);
       if (s == nullptr) {
         std::string known;
-        for (const SettingSpec& k : d.settings) known += (known.empty() ? "" : ", ") + std::string(k.key);
-        return make_error("--set ", std::string(d.name), ".", key, ": ", std::string(d.name),
-                          known.empty() ? " has no settings" : " has no such setting (known: " + known + ")");
+        for (const SettingSpec& k : d.settings)
+          known += (known.empty() ? "" : ", ") + std::string(k.key);
+        return make_error(
+            "--set ", std::string(d.name), ".", key, ": ", std::string(d.name),
+            known.empty() ? " has no settings" : " has no such setting (known: " + known + ")");
       }
       if (auto ok = check(d.name, *s, text); !ok) return ok.error();
       out.values_[key] = text;
@@ -143,11 +151,17 @@ double SettingValues::number(std::string_view key) const {
   return std::strtod(text.c_str(), nullptr);
 }
 
-int SettingValues::integer(std::string_view key) const { return int(number(key)); }
+int SettingValues::integer(std::string_view key) const {
+  return int(number(key));
+}
 
-bool SettingValues::flag(std::string_view key) const { return lookup(values_, key) == "1"; }
+bool SettingValues::flag(std::string_view key) const {
+  return lookup(values_, key) == "1";
+}
 
-const std::string& SettingValues::text(std::string_view key) const { return lookup(values_, key); }
+const std::string& SettingValues::text(std::string_view key) const {
+  return lookup(values_, key);
+}
 
 bool SettingValues::given(std::string_view key) const {
   const auto it = given_.find(key);
@@ -165,7 +179,8 @@ Result<void> TechniqueSettings::add(const std::string& assignment) {
   return {};
 }
 
-std::map<std::string, std::string> TechniqueSettings::for_technique(std::string_view technique) const {
+std::map<std::string, std::string> TechniqueSettings::for_technique(
+    std::string_view technique) const {
   std::map<std::string, std::string> mine;
   const std::string prefix = std::string(technique) + ".";
   for (const auto& [key, value] : values)

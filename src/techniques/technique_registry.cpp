@@ -13,13 +13,15 @@ namespace farfield {
 namespace {
 
 const std::array kTechniques = {
-    &brute_descriptor,      &octree_descriptor,     &octree_paper_descriptor,
-    &colorcube_descriptor,  &stratified_descriptor, &composite_descriptor,
+    &brute_descriptor,     &octree_descriptor,     &octree_paper_descriptor,
+    &colorcube_descriptor, &stratified_descriptor, &composite_descriptor,
 };
 
 }  // namespace
 
-std::span<const TechniqueDescriptor* const> technique_descriptors() { return kTechniques; }
+std::span<const TechniqueDescriptor* const> technique_descriptors() {
+  return kTechniques;
+}
 
 Result<const TechniqueDescriptor*> find_technique(std::string_view name) {
   std::string known;

@@ -13,8 +13,8 @@
 namespace farfield {
 
 struct CameraPath {
-  std::string kind;    // street, fly, orbit, recorded, ...
-  std::string scene;   // the scene file it was made for (informative)
+  std::string kind;   // street, fly, orbit, recorded, ...
+  std::string scene;  // the scene file it was made for (informative)
   std::vector<CameraPose> frames;
 };
 

@@ -10,8 +10,12 @@ namespace farfield {
 
 inline constexpr int kCubeFaces = 6;
 
-inline constexpr int face_axis(int face) { return face / 2; }
-inline constexpr int face_sign(int face) { return face % 2 == 0 ? 1 : -1; }
+inline constexpr int face_axis(int face) {
+  return face / 2;
+}
+inline constexpr int face_sign(int face) {
+  return face % 2 == 0 ? 1 : -1;
+}
 // The outward normal of the face.
 inline constexpr glm::vec3 face_normal(int face) {
   glm::vec3 n(0.0f);
@@ -19,6 +23,8 @@ inline constexpr glm::vec3 face_normal(int face) {
   return n;
 }
 // Whether the face is a side (not the top or bottom) for +Y up.
-inline constexpr bool vertical_face(int face) { return face_axis(face) != 1; }
+inline constexpr bool vertical_face(int face) {
+  return face_axis(face) != 1;
+}
 
 }  // namespace farfield

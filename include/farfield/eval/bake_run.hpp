@@ -15,7 +15,7 @@
 namespace farfield {
 
 struct BakeOutcome {
-  std::string description;  // Technique::describe() after the bake
+  std::string description;   // Technique::describe() after the bake
   uint64_t store_bytes = 0;  // the technique's blobs in the pack
   double seconds = 0.0;
 };

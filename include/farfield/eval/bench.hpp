@@ -28,12 +28,12 @@ struct BenchOptions {
   int width = 1024, height = 768;
   float hfov_deg = 90.0f;
   std::string out_dir;
-  uint32_t warmup_frames = 3;    // drawn before timing, untimed
+  uint32_t warmup_frames = 3;     // drawn before timing, untimed
   uint32_t reference_every = 10;  // compare with brute every N frames (and on sample frames)
-  uint32_t sample_images = 3;    // frames saved as PNG per technique, spread over the path
-  bool plot = true;              // frame_times.png through python3-matplotlib
-  float birdseye_height = 0;     // > 0: also a bird's-eye picture of each sample frame
-  double budget_ms = 0;          // the engine's frame-time budget for every technique; 0: none
+  uint32_t sample_images = 3;     // frames saved as PNG per technique, spread over the path
+  bool plot = true;               // frame_times.png through python3-matplotlib
+  float birdseye_height = 0;      // > 0: also a bird's-eye picture of each sample frame
+  double budget_ms = 0;           // the engine's frame-time budget for every technique; 0: none
   // Time the techniques frame by frame (frame f of each, then f + 1), so that drift on a
   // shared machine falls on all alike; all are loaded at once and peak_rss_mb is the process's.
   bool interleave = false;
@@ -46,8 +46,8 @@ struct FrameRecord {
   double frame_ms = 0, cpu_ms = 0, gpu_ms = 0;
   uint64_t triangles = 0, draw_calls = 0;
   uint64_t proxy_triangles = 0;  // of the triangles, technique meshes (two per cube face)
-  bool compared = false;  // a brute reference exists for this frame
-  double psnr_db = 0;     // infinite when identical
+  bool compared = false;         // a brute reference exists for this frame
+  double psnr_db = 0;            // infinite when identical
   uint64_t differing_pixels = 0;
   double pipelined_frame_ms = 0, pipelined_latency_ms = 0;  // BenchOptions::pipelined
 };

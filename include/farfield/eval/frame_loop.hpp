@@ -38,8 +38,8 @@ class FrameLoop {
 
   // One frame of `technique` at `view`; with a bird's-eye height the selection is drawn from
   // that far above the eye, annotated (paper 000, Fig. 5-2), instead of from the eye.
-  FrameTiming run(Technique& technique, const View& view, uint64_t frame,
-                  const FrameBudget& budget, float birdseye_height = 0.0f);
+  FrameTiming run(Technique& technique, const View& view, uint64_t frame, const FrameBudget& budget,
+                  float birdseye_height = 0.0f);
   // The raw bound: every triangle in one draw.
   FrameTiming run_raw(const View& view);
   // The last frame's selection seen from above, annotated (after run() of the same view).

@@ -83,7 +83,7 @@ struct TextureUpload {
   int channels;           // 3 (RGB8) or 4 (RGBA8, alpha = coverage)
   const uint8_t* pixels;  // rows from the top
   std::shared_ptr<const void> owner;
-  bool mipmaps = false;   // a full mip chain, trilinear (textured meshes); else one level
+  bool mipmaps = false;  // a full mip chain, trilinear (textured meshes); else one level
 };
 
 // A quadrilateral showing a texture: corners at the image's top-left, top-right,

@@ -1,8 +1,8 @@
 // Draws a Scene's DrawLists with OpenGL 4.5 core. The whole scene lives in two GPU buffers
 // (vertices, indices); a DrawList becomes multi-draw-indirect commands, opaque ranges first,
 // then transparent ranges blended without depth writes. Technique meshes and textures are
-// made through the Device interface and named by handle in the lists. Shading: paper 000, Sec. 5.3, two
-// directional lights opposite each other 14 degrees above the horizon, plus ambient; colour =
+// made through the Device interface and named by handle in the lists. Shading: paper 000, Sec. 5.3,
+// two directional lights opposite each other 14 degrees above the horizon, plus ambient; colour =
 // vertex colour x material base colour. Depth: reversed-Z float buffer (View's projection).
 //
 // Needs a current Context. Not thread-safe.
@@ -24,11 +24,11 @@
 namespace farfield::gpu {
 
 struct FrameStats {
-  double gpu_ms = 0.0;        // GL timestamps around the frame's draws (0 if unavailable);
-                              // on llvmpipe they see only part of the work: quote frame_ms
-  uint64_t triangles = 0;     // submitted
-  uint64_t draw_calls = 0;    // draw commands submitted (a gathered batch of many mesh
-                              // ranges counts once)
+  double gpu_ms = 0.0;      // GL timestamps around the frame's draws (0 if unavailable);
+                            // on llvmpipe they see only part of the work: quote frame_ms
+  uint64_t triangles = 0;   // submitted
+  uint64_t draw_calls = 0;  // draw commands submitted (a gathered batch of many mesh
+                            // ranges counts once)
 };
 
 class Renderer final : public Device {

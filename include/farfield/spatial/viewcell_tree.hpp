@@ -56,7 +56,7 @@ class ViewcellTree {
   std::optional<CellKey> locate(const glm::vec3& p) const;
   bool valid(const CellKey& key) const;
   Bounds3 cell_bounds(const CellKey& key) const;
-  glm::vec3 centre(const CellKey& key) const;  // the original viewpoint of the cell
+  glm::vec3 centre(const CellKey& key) const;    // the original viewpoint of the cell
   Bounds3 box_bounds(const CellKey& key) const;  // side b around the centre
 
   // The viewcells whose bounds meet `bounds` (closed), in grid order.

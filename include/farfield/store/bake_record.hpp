@@ -18,9 +18,9 @@ namespace farfield {
 
 struct BakeRecord {
   std::string technique;
-  int format = 0;             // the technique's bake format (TechniqueDescriptor::bake_format)
-  uint64_t scene = 0;         // scene_fingerprint of the scene baked
-  double bake_s = 0.0;        // wall time of the bake that finished it
+  int format = 0;       // the technique's bake format (TechniqueDescriptor::bake_format)
+  uint64_t scene = 0;   // scene_fingerprint of the scene baked
+  double bake_s = 0.0;  // wall time of the bake that finished it
   std::map<std::string, std::string> settings;  // the baked settings, KEY -> VALUE as typed
 };
 

@@ -62,18 +62,18 @@ struct FrameInput {
 };
 
 struct LoadContext {
-  const Scene& scene;        // outlives the technique
-  const Store* store;        // the --store pack, or null; a bake of this technique in it was
-                             // checked before (eval/run_plan.hpp: this scene, this format)
-  gpu::Device& device;       // outlives the technique: its meshes and textures
+  const Scene& scene;   // outlives the technique
+  const Store* store;   // the --store pack, or null; a bake of this technique in it was
+                        // checked before (eval/run_plan.hpp: this scene, this format)
+  gpu::Device& device;  // outlives the technique: its meshes and textures
   Progress& progress;
 };
 
 struct BakeContext {
   const Scene& scene;
-  Store& store;              // the technique writes its blobs in transactions of its own
-  gpu::Renderer* renderer;   // a headless renderer of the scene for bakes that render
-                             // (TechniqueDescriptor::bake_renders), else null
+  Store& store;             // the technique writes its blobs in transactions of its own
+  gpu::Renderer* renderer;  // a headless renderer of the scene for bakes that render
+                            // (TechniqueDescriptor::bake_renders), else null
   Progress& progress;
 };
 

@@ -31,8 +31,8 @@ struct SettingSpec {
   SettingType type;
   std::string_view default_value;  // as typed; empty: derived (the help says how)
   std::string_view help;
-  std::string_view unit = {};      // "m", "deg", "px", "frames", ...
-  std::string_view symbol = {};    // the paper's name for it: "alpha_max (000, Eq. 2.2)"
+  std::string_view unit = {};    // "m", "deg", "px", "frames", ...
+  std::string_view symbol = {};  // the paper's name for it: "alpha_max (000, Eq. 2.2)"
   double min = -std::numeric_limits<double>::infinity();
   double max = std::numeric_limits<double>::infinity();
   bool min_open = false, max_open = false;  // the range excludes that end
@@ -47,7 +47,7 @@ class SettingValues {
   int integer(std::string_view key) const;
   bool flag(std::string_view key) const;
   const std::string& text(std::string_view key) const;  // choice and text settings
-  bool given(std::string_view key) const;  // set on the command line (not a default)
+  bool given(std::string_view key) const;               // set on the command line (not a default)
 
  private:
   friend struct SettingsParser;
@@ -77,7 +77,7 @@ struct TechniqueDescriptor {
   std::string_view paper;    // "004, Sec. 2.1"
   std::span<const SettingSpec> settings;
   BakeUse bake = BakeUse::none;
-  int bake_format = 0;       // the pack's format of this technique's bake; raise on change
+  int bake_format = 0;        // the pack's format of this technique's bake; raise on change
   bool bake_renders = false;  // its bake draws the scene (BakeContext::renderer)
   // `info PACK`: lines on the technique's bake in the pack (viewcells per shell, ...).
   Result<std::string> (*describe_bake)(const Store& store) = nullptr;

@@ -5,7 +5,8 @@ namespace farfield {
 const TechniqueDescriptor brute_descriptor{
     .name = "brute",
     .summary = "every object every frame (the reference)",
-    .make = [](const SettingValues&, const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
+    .make = [](const SettingValues&,
+               const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       return std::unique_ptr<Technique>(std::make_unique<BruteTechnique>());
     },
 };

@@ -27,35 +27,77 @@ void append(DrawList& out, MeshHandle mesh, uint32_t first, uint32_t count) {
 }
 
 constexpr SettingSpec kSettings[] = {
-    {.key = "depth", .type = SettingType::integer, .default_value = "0",
+    {.key = "depth",
+     .type = SettingType::integer,
+     .default_value = "0",
      .help = "levels of the octree below the root; 0 derives it from the triangle density "
              "(about 4000 triangles a leaf, paper 002 Sec. 6.4)",
-     .symbol = "octree depth (002, Table 1)", .min = 0, .max = 12, .baked = true},
-    {.key = "cluster", .type = SettingType::integer, .default_value = "4",
-     .help = "cubes per cell side", .symbol = "c (002, Sec. 4.2)", .min = 1, .max = 32,
+     .symbol = "octree depth (002, Table 1)",
+     .min = 0,
+     .max = 12,
      .baked = true},
-    {.key = "oversampling", .type = SettingType::integer, .default_value = "1",
-     .help = "pixels per cube side when a leaf is rendered", .unit = "px",
-     .symbol = "k (002, Sec. 4.1)", .min = 1, .max = 5, .baked = true},
-    {.key = "coverage", .type = SettingType::choice, .default_value = "binary",
+    {.key = "cluster",
+     .type = SettingType::integer,
+     .default_value = "4",
+     .help = "cubes per cell side",
+     .symbol = "c (002, Sec. 4.2)",
+     .min = 1,
+     .max = 32,
+     .baked = true},
+    {.key = "oversampling",
+     .type = SettingType::integer,
+     .default_value = "1",
+     .help = "pixels per cube side when a leaf is rendered",
+     .unit = "px",
+     .symbol = "k (002, Sec. 4.1)",
+     .min = 1,
+     .max = 5,
+     .baked = true},
+    {.key = "coverage",
+     .type = SettingType::choice,
+     .default_value = "binary",
      .help = "face coverage: any covered pixel (the paper's) or the covered fraction",
-     .choices = "binary|fraction", .baked = true},
-    {.key = "threshold", .type = SettingType::number, .default_value = "0",
-     .help = "a face is drawn when its coverage exceeds this", .min = 0, .max = 1,
-     .max_open = true, .baked = true},
-    {.key = "alpha", .type = SettingType::flag, .default_value = "0",
-     .help = "draw coverage as transparency (paper 002, Sec. 4.1)", .baked = true},
-    {.key = "inner_faces", .type = SettingType::choice, .default_value = "drop",
+     .choices = "binary|fraction",
+     .baked = true},
+    {.key = "threshold",
+     .type = SettingType::number,
+     .default_value = "0",
+     .help = "a face is drawn when its coverage exceeds this",
+     .min = 0,
+     .max = 1,
+     .max_open = true,
+     .baked = true},
+    {.key = "alpha",
+     .type = SettingType::flag,
+     .default_value = "0",
+     .help = "draw coverage as transparency (paper 002, Sec. 4.1)",
+     .baked = true},
+    {.key = "inner_faces",
+     .type = SettingType::choice,
+     .default_value = "drop",
      .help = "faces against a solid neighbour: dropped at bake, or kept as the paper does",
-     .choices = "drop|keep", .baked = true},
-    {.key = "occlusion", .type = SettingType::flag, .default_value = "1",
+     .choices = "drop|keep",
+     .baked = true},
+    {.key = "occlusion",
+     .type = SettingType::flag,
+     .default_value = "1",
      .help = "skip cells hidden behind cube faces already drawn (the image is unchanged); 0 is "
              "the paper's walk"},
-    {.key = "pixels", .type = SettingType::number, .default_value = "1",
+    {.key = "pixels",
+     .type = SettingType::number,
+     .default_value = "1",
      .help = "pixel tolerance: a cell is drawn as cubes when a cube covers less than this",
-     .unit = "px", .symbol = "epsilon (002, Sec. 3.1)", .min = 0, .max = 1e4, .min_open = true},
-    {.key = "threads", .type = SettingType::integer, .default_value = "0",
-     .help = "leaf bake threads; 0: all cores", .min = 0, .max = 1024},
+     .unit = "px",
+     .symbol = "epsilon (002, Sec. 3.1)",
+     .min = 0,
+     .max = 1e4,
+     .min_open = true},
+    {.key = "threads",
+     .type = SettingType::integer,
+     .default_value = "0",
+     .help = "leaf bake threads; 0: all cores",
+     .min = 0,
+     .max = 1024},
 };
 
 }  // namespace
@@ -67,7 +109,8 @@ const TechniqueDescriptor colorcube_descriptor{
     .settings = kSettings,
     .bake = BakeUse::optional,
     .bake_format = 1,
-    .make = [](const SettingValues& v, const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
+    .make = [](const SettingValues& v,
+               const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       ColorcubeOptions o;
       o.tree.depth = v.integer("depth");
       o.tree.leaf.cluster = v.integer("cluster");
@@ -198,14 +241,16 @@ void ColorcubeTechnique::index_outlines() {
   outline_first_.assign(tree_.cells.size() + 1, 0);
   const std::vector<ProxyVertex>& v = tree_.proxies.vertices;
   const std::vector<uint32_t>& indices = tree_.proxies.indices;
-  std::vector<uint8_t> drawn(static_cast<size_t>(count)), in(static_cast<size_t>(count));  // face bits; the set
+  std::vector<uint8_t> drawn(static_cast<size_t>(count)),
+      in(static_cast<size_t>(count));  // face bits; the set
   for (size_t i = 0; i < tree_.cells.size(); ++i) {
     const CubeCell& cell = tree_.cells[i];
     const glm::vec3 step = cell.bounds.size() / float(c);
     std::fill(drawn.begin(), drawn.end(), 0);
     for (int face = 0; face < 6; ++face) {
       const int a = face_axis(face);
-      for (uint32_t k = cell.faces_begin[face]; k < cell.faces_begin[face] + cell.faces_count[face]; k += 6) {
+      for (uint32_t k = cell.faces_begin[face]; k < cell.faces_begin[face] + cell.faces_count[face];
+           k += 6) {
         const ProxyVertex& corner = v[indices[k]];
         if ((corner.color >> 24) != 0xFF) continue;
         glm::vec3 lo = corner.position;
@@ -258,7 +303,8 @@ void ColorcubeTechnique::index_outlines() {
       for (int z = z0; z < z1; ++z)
         for (int y = y0; y < y1; ++y)
           for (int x = x0; x < x1; ++x) in[size_t(x + c * (y + c * z))] = 0;
-      outlines_.push_back({{uint8_t(x0), uint8_t(y0), uint8_t(z0)}, {uint8_t(x1), uint8_t(y1), uint8_t(z1)}});
+      outlines_.push_back(
+          {{uint8_t(x0), uint8_t(y0), uint8_t(z0)}, {uint8_t(x1), uint8_t(y1), uint8_t(z1)}});
     }
   }
   outline_first_.back() = uint32_t(outlines_.size());
@@ -306,8 +352,8 @@ std::string ColorcubeTechnique::describe() const {
                 "faces (%llu inner ones dropped), %llu leaf triangles, bake %.2f s + %.2f s",
                 s.cells, s.leaves, s.levels, s.cluster, s.cluster, s.cluster, s.oversampling,
                 s.oversampling, (unsigned long long)s.cube_faces,
-                (unsigned long long)s.inner_faces_dropped,
-                (unsigned long long)s.geometry_triangles, s.leaf_bake_s, s.hierarchy_s);
+                (unsigned long long)s.inner_faces_dropped, (unsigned long long)s.geometry_triangles,
+                s.leaf_bake_s, s.hierarchy_s);
   return line;
 }
 

@@ -5,15 +5,24 @@ namespace farfield {
 namespace {
 
 constexpr SettingSpec kSettings[] = {
-    {.key = "near", .type = SettingType::choice, .default_value = "octree",
+    {.key = "near",
+     .type = SettingType::choice,
+     .default_value = "octree",
      .help = "the technique of the near field (its own settings apply)",
      .choices = "octree|octree-paper|brute"},
-    {.key = "far", .type = SettingType::choice, .default_value = "stratified",
+    {.key = "far",
+     .type = SettingType::choice,
+     .default_value = "stratified",
      .help = "the technique of the far field (its own settings and bake apply)",
      .choices = "stratified"},
-    {.key = "near_share", .type = SettingType::number, .default_value = "0.5",
-     .help = "the part of the frame budget given to the near field", .min = 0, .max = 1,
-     .min_open = true, .max_open = true},
+    {.key = "near_share",
+     .type = SettingType::number,
+     .default_value = "0.5",
+     .help = "the part of the frame budget given to the near field",
+     .min = 0,
+     .max = 1,
+     .min_open = true,
+     .max_open = true},
 };
 
 }  // namespace
@@ -22,8 +31,8 @@ const TechniqueDescriptor composite_descriptor{
     .name = "composite",
     .summary = "the near field from one technique, the far field from another",
     .settings = kSettings,
-    .make = [](const SettingValues& v, const TechniqueSettings& all)
-        -> Result<std::unique_ptr<Technique>> {
+    .make = [](const SettingValues& v,
+               const TechniqueSettings& all) -> Result<std::unique_ptr<Technique>> {
       auto near = make_technique(v.text("near"), all);
       if (!near) return near.error();
       auto far = make_technique(v.text("far"), all);
@@ -31,9 +40,10 @@ const TechniqueDescriptor composite_descriptor{
       return std::unique_ptr<Technique>(std::make_unique<CompositeTechnique>(
           std::move(*near), std::move(*far), v.number("near_share")));
     },
-    .parts = [](const SettingValues& v) {
-      return std::vector<std::string>{v.text("near"), v.text("far")};
-    },
+    .parts =
+        [](const SettingValues& v) {
+          return std::vector<std::string>{v.text("near"), v.text("far")};
+        },
 };
 
 Result<void> CompositeTechnique::load(const LoadContext& context) {
@@ -73,7 +83,8 @@ std::string CompositeTechnique::describe() const {
 std::vector<std::pair<std::string, double>> CompositeTechnique::figures() const {
   std::vector<std::pair<std::string, double>> f;
   for (const Technique* part : {near_.get(), far_.get()})
-    for (auto& [key, value] : part->figures()) f.emplace_back(std::string(part->name()) + "." + key, value);
+    for (auto& [key, value] : part->figures())
+      f.emplace_back(std::string(part->name()) + "." + key, value);
   return f;
 }
 

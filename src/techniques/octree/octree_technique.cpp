@@ -7,10 +7,19 @@ namespace farfield {
 namespace {
 
 constexpr SettingSpec kSettings[] = {
-    {.key = "depth", .type = SettingType::integer, .default_value = "12",
-     .help = "deepest level of the octree below the root", .min = 1, .max = 20},
-    {.key = "leaf_objects", .type = SettingType::integer, .default_value = "8",
-     .help = "a node holding more objects is split", .unit = "objects", .min = 1, .max = 1e6},
+    {.key = "depth",
+     .type = SettingType::integer,
+     .default_value = "12",
+     .help = "deepest level of the octree below the root",
+     .min = 1,
+     .max = 20},
+    {.key = "leaf_objects",
+     .type = SettingType::integer,
+     .default_value = "8",
+     .help = "a node holding more objects is split",
+     .unit = "objects",
+     .min = 1,
+     .max = 1e6},
 };
 
 OctreeTechniqueOptions options_from(const SettingValues& v) {
@@ -27,8 +36,10 @@ const TechniqueDescriptor octree_descriptor{
     .summary = "octree frustum culling (plane test, objects of partial leaves tested)",
     .paper = "004, Sec. 2.1",
     .settings = kSettings,
-    .make = [](const SettingValues& v, const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
-      return std::unique_ptr<Technique>(std::make_unique<OctreeTechnique>("octree", options_from(v)));
+    .make = [](const SettingValues& v,
+               const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
+      return std::unique_ptr<Technique>(
+          std::make_unique<OctreeTechnique>("octree", options_from(v)));
     },
 };
 
@@ -37,7 +48,8 @@ const TechniqueDescriptor octree_paper_descriptor{
     .summary = "octree culling with paper 004's own corner-projection test, whole leaves drawn",
     .paper = "004, Sec. 2.1",
     .settings = kSettings,
-    .make = [](const SettingValues& v, const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
+    .make = [](const SettingValues& v,
+               const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       OctreeTechniqueOptions o = options_from(v);
       o.paper_visibility_test = true;
       o.test_objects_in_leaves = false;

@@ -12,8 +12,8 @@ namespace farfield::stratified {
 namespace {
 
 // Camera up of each face's view; the top and bottom look along Y, so their up is -Z / +Z.
-constexpr glm::vec3 kUps[kFaces] = {{0, 1, 0},  {0, 1, 0}, {0, 0, -1},
-                                    {0, 0, 1},  {0, 1, 0}, {0, 1, 0}};
+constexpr glm::vec3 kUps[kFaces] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1},
+                                    {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
 
 }  // namespace
 
@@ -51,13 +51,16 @@ glm::mat4 face_view_projection(const glm::vec3& centre, float box, int face) {
 FaceHit project_to_box(const glm::vec3& direction) {
   const glm::vec3 a = glm::abs(direction);
   int face;
-  if (a.x >= a.y && a.x >= a.z) face = direction.x > 0 ? 0 : 1;
-  else if (a.z >= a.y) face = direction.z > 0 ? 4 : 5;
-  else face = direction.y > 0 ? 2 : 3;
+  if (a.x >= a.y && a.x >= a.z)
+    face = direction.x > 0 ? 0 : 1;
+  else if (a.z >= a.y)
+    face = direction.z > 0 ? 4 : 5;
+  else
+    face = direction.y > 0 ? 2 : 3;
   const FaceFrame f = face_frame(face);
   const glm::vec3 on_plane = direction / glm::dot(direction, f.normal);  // normal component 1
-  return {face, {0.5f * (glm::dot(on_plane, f.right) + 1.0f),
-                 0.5f * (1.0f - glm::dot(on_plane, f.up))}};
+  return {face,
+          {0.5f * (glm::dot(on_plane, f.right) + 1.0f), 0.5f * (1.0f - glm::dot(on_plane, f.up))}};
 }
 
 }  // namespace farfield::stratified

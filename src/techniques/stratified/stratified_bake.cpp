@@ -56,8 +56,9 @@ Result<std::vector<ShellParams>> plan_shells(const StratifiedOptions& o, double 
     return std::vector<ShellParams>{{o.box, *v}};
   }
   if (o.viewcell > 0)
-    return make_error("--set stratified.viewcell applies to one shell; with shells the viewcells "
-                      "follow from alpha and each box");
+    return make_error(
+        "--set stratified.viewcell applies to one shell; with shells the viewcells "
+        "follow from alpha and each box");
   auto boxes = box_series(o.spacing, o.box, o.factor, model, o.shells);
   if (!boxes) return make_error("stratified: ", boxes.error().message);
   std::vector<ShellParams> out;
@@ -113,8 +114,10 @@ Result<std::vector<std::optional<std::vector<CellKey>>>> wanted_cells(
         char extent[160];
         std::snprintf(extent, sizeof extent, "x %.1f to %.1f, z %.1f to %.1f", r.min.x, r.max.x,
                       r.min.z, r.max.z);
-        return make_error("--set stratified.limit: the rectangle meets no viewcell of the "
-                          "navigable region (", extent, ")");
+        return make_error(
+            "--set stratified.limit: the rectangle meets no viewcell of the "
+            "navigable region (",
+            extent, ")");
       }
       cells.insert(meeting.begin(), meeting.end());
     }
@@ -122,7 +125,6 @@ Result<std::vector<std::optional<std::vector<CellKey>>>> wanted_cells(
   }
   return wanted;
 }
-
 
 }  // namespace
 
@@ -154,8 +156,10 @@ Result<void> StratifiedTechnique::bake(const BakeContext& context) {
   auto existing = store.get_meta(kParamsKey);
   if (!existing) return existing.error();
   if (*existing && **existing != text)
-    return make_error(store.path(), " holds a stratified bake with other settings or of another "
-                      "scene; bake into a new pack (its settings:\n", **existing, ")");
+    return make_error(store.path(),
+                      " holds a stratified bake with other settings or of another "
+                      "scene; bake into a new pack (its settings:\n",
+                      **existing, ")");
   if (!*existing)
     if (auto ok = store.set_meta(kParamsKey, text); !ok) return ok;
 
@@ -179,7 +183,8 @@ Result<void> StratifiedTechnique::bake(const BakeContext& context) {
   if (total > kMaxViewcells)
     return make_error("stratified: ", std::to_string(total), " viewcells (v ",
                       std::to_string(params.shells[0].viewcell), " m) are more than ",
-                      std::to_string(kMaxViewcells), " to bake; limit the bake with --set "
+                      std::to_string(kMaxViewcells),
+                      " to bake; limit the bake with --set "
                       "stratified.path=PATH.json or stratified.limit=X0,Z0,X1,Z1, or raise alpha");
   uint64_t already = 0;
   for (size_t s = 0; s < trees.size(); ++s) {
@@ -249,7 +254,7 @@ Result<void> StratifiedTechnique::bake(const BakeContext& context) {
         list.clear();
         far.emit(list);
         renderer.draw_with(face_view_projection(centre, float(tree.box()), f), resolution,
-                               resolution, list);
+                           resolution, list);
         Image image = renderer.capture();
         FaceImage& face = job.record.faces[size_t(f)];
         face.width = face.height = resolution;
@@ -284,9 +289,10 @@ Result<void> StratifiedTechnique::bake(const BakeContext& context) {
   std::snprintf(summary, sizeof summary,
                 "%llu viewcells baked now, %llu in the pack; v %.2f m, box %.0f m, alpha %.2f deg, "
                 "%d px %s, %zu shell(s)",
-                (unsigned long long)writer.written(), (unsigned long long)(already + writer.written()),
-                params.shells[0].viewcell, params.shells[0].box, params.alpha_deg,
-                params.resolution, codec_name(params.codec.codec), params.shells.size());
+                (unsigned long long)writer.written(),
+                (unsigned long long)(already + writer.written()), params.shells[0].viewcell,
+                params.shells[0].box, params.alpha_deg, params.resolution,
+                codec_name(params.codec.codec), params.shells.size());
   bake_summary_ = summary;
   return {};
 }

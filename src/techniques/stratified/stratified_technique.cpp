@@ -14,8 +14,8 @@ namespace farfield {
 using namespace stratified;
 
 namespace {
-constexpr size_t kTextureSets = 42;    // viewcells resident on the GPU at once
-constexpr size_t kCacheCells = 24;     // decoded viewcells kept in memory
+constexpr size_t kTextureSets = 42;      // viewcells resident on the GPU at once
+constexpr size_t kCacheCells = 24;       // decoded viewcells kept in memory
 constexpr uint32_t kCyan = 0xffffff00u;  // RGBA8, R in the low byte
 }  // namespace
 
@@ -44,7 +44,8 @@ const TechniqueDescriptor stratified_descriptor{
       }
       return out;
     },
-    .make = [](const SettingValues& v, const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
+    .make = [](const SettingValues& v,
+               const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       auto options = stratified_options(v);
       if (!options) return options.error();
       return std::unique_ptr<Technique>(std::make_unique<StratifiedTechnique>(*options));
@@ -55,15 +56,18 @@ StratifiedTechnique::~StratifiedTechnique() = default;
 
 Result<void> StratifiedTechnique::load(const LoadContext& context) {
   if (context.store == nullptr)
-    return make_error("stratified draws from a bake: run `farfield bake SCENE --technique "
-                      "stratified --out PACK.ffpack`, then pass --store PACK.ffpack");
+    return make_error(
+        "stratified draws from a bake: run `farfield bake SCENE --technique "
+        "stratified --out PACK.ffpack`, then pass --store PACK.ffpack");
   const Scene& scene = context.scene;
   const Store& store = *context.store;
   auto text = store.get_meta(kParamsKey);
   if (!text) return text.error();
   if (!*text)
-    return make_error(store.path(), ": holds no stratified bake (run: farfield bake SCENE "
-                                    "--technique stratified --out ", store.path(), ")");
+    return make_error(store.path(),
+                      ": holds no stratified bake (run: farfield bake SCENE "
+                      "--technique stratified --out ",
+                      store.path(), ")");
   auto params = parse_params(**text);
   if (!params) return make_error(store.path(), ": ", params.error().message);
   if (params->scene != scene_fingerprint(scene))
@@ -72,8 +76,8 @@ Result<void> StratifiedTechnique::load(const LoadContext& context) {
   scene_ = &scene;
   shells_.clear();
   for (size_t s = 0; s < params_.shells.size(); ++s) {
-    auto tree = ViewcellTree::create(params_.region, params_.shells[s].viewcell,
-                                     params_.shells[s].box);
+    auto tree =
+        ViewcellTree::create(params_.region, params_.shells[s].viewcell, params_.shells[s].box);
     if (!tree) return make_error(store.path(), ": ", tree.error().message);
     auto cells = baked_cells(store, int(s));
     if (!cells) return cells.error();
@@ -88,7 +92,8 @@ Result<void> StratifiedTechnique::load(const LoadContext& context) {
   }
   if (shells_[0].baked.empty())
     return make_error(store.path(), ": its stratified bake has no finished viewcell yet");
-  auto loader = CellLoader::start(store.path(), params_, uint32_t(scene.objects.size()), kCacheCells);
+  auto loader =
+      CellLoader::start(store.path(), params_, uint32_t(scene.objects.size()), kCacheCells);
   if (!loader) return loader.error();
   loader_ = std::move(*loader);
   selected_ = std::make_unique<ObjectSet>(scene);
@@ -287,7 +292,9 @@ void StratifiedTechnique::annotate(const View&, DrawList& list) const {
       if (!(i & axis)) list.lines.push_back({corner(i), corner(i | axis), kCyan});
 }
 
-std::string StratifiedTechnique::failure() const { return loader_ ? loader_->error() : ""; }
+std::string StratifiedTechnique::failure() const {
+  return loader_ ? loader_->error() : "";
+}
 
 std::string StratifiedTechnique::describe() const {
   if (shells_.empty()) return bake_summary_;

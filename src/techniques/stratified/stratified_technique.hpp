@@ -24,15 +24,16 @@ extern const TechniqueDescriptor stratified_descriptor;
 
 class StratifiedTechnique final : public Technique {
  public:
-  explicit StratifiedTechnique(const stratified::StratifiedOptions& options)
-      : options_(options) {}
+  explicit StratifiedTechnique(const stratified::StratifiedOptions& options) : options_(options) {}
   ~StratifiedTechnique() override;
   std::string_view name() const override { return "stratified"; }
   Result<void> bake(const BakeContext& context) override;
   Result<void> load(const LoadContext& context) override;
   void select(const FrameInput& input, DrawList& out) override;
   std::optional<Bounds3> far_field_box() const override { return far_box_; }
-  uint64_t fallback_frames() const override { return unbaked_frames_ + outside_frames_ + damaged_frames_; }
+  uint64_t fallback_frames() const override {
+    return unbaked_frames_ + outside_frames_ + damaged_frames_;
+  }
   std::string describe() const override;
   std::vector<std::pair<std::string, double>> figures() const override;
   void annotate(const View& eye, DrawList& list) const override;
@@ -53,8 +54,7 @@ class StratifiedTechnique final : public Technique {
   // The texture set holding `id`, uploading it (into `out`) if it is not resident.
   int make_resident(const stratified::CellId& id,
                     const std::shared_ptr<const stratified::CellRecord>& record, DrawList& out);
-  void add_box(int shell, const CellKey& key, int set, float opacity,
-               DrawList& out) const;
+  void add_box(int shell, const CellKey& key, int set, float opacity, DrawList& out) const;
   void prefetch_ahead(const glm::vec3& position);
 
   stratified::StratifiedOptions options_;

@@ -35,7 +35,7 @@ struct CubeTreeOptions {
 };
 
 struct CubeCell {
-  Bounds3 bounds;            // a cube
+  Bounds3 bounds;  // a cube
   // The cell and every triangle owned by a leaf below it: a large triangle reaches out of
   // its owner's cell, so culling and the near/far decision use this box, never dropping it.
   Bounds3 reach;
@@ -53,11 +53,11 @@ struct CubeCell {
 
 struct CubeTreeStats {  // paper 002, Table 1
   uint32_t cells = 0, leaves = 0, levels = 0, cluster = 0, oversampling = 0;
-  uint64_t cube_faces = 0;          // faces kept in the model (drawable)
-  uint64_t inner_faces_dropped = 0; // faces against a solid neighbour, never seen
-  uint64_t geometry_triangles = 0;  // the leaves' own triangles (each scene triangle once)
-  double leaf_bake_s = 0;          // phase I: leaves rendered
-  double hierarchy_s = 0;          // phase II: parents combined, proxies built
+  uint64_t cube_faces = 0;           // faces kept in the model (drawable)
+  uint64_t inner_faces_dropped = 0;  // faces against a solid neighbour, never seen
+  uint64_t geometry_triangles = 0;   // the leaves' own triangles (each scene triangle once)
+  double leaf_bake_s = 0;            // phase I: leaves rendered
+  double hierarchy_s = 0;            // phase II: parents combined, proxies built
 };
 
 struct CubeTree {

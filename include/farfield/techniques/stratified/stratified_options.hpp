@@ -27,21 +27,21 @@ const char* style_name(Style style);
 
 struct StratifiedOptions {
   // Bake.
-  double alpha_deg = 2.0;    // alpha_max
-  double box = 240.0;        // b, metres (the innermost box with shells)
-  double viewcell = 0.0;     // v; 0: from alpha and the box (see `paper_sizing`)
+  double alpha_deg = 2.0;  // alpha_max
+  double box = 240.0;      // b, metres (the innermost box with shells)
+  double viewcell = 0.0;   // v; 0: from alpha and the box (see `paper_sizing`)
   // v from paper 000's Eq. 2.2 (Eq. 4.1 with shells) rather than the strict 3D bound
   // (strict_viewcell_length), which holds for every eye point and far point.
   bool paper_sizing = false;
-  int resolution = 512;      // pixels per box side
+  int resolution = 512;  // pixels per box side
   ImageCodec codec = ImageCodec::jpeg(85);
-  bool delta = false;        // PNG residuals against a neighbouring viewcell (Sec. 3.1.4)
-  std::string band = "street";  // navigable heights: street, all, or "Y0,Y1"
-  std::string path;             // bake only the viewcells this camera path passes through
+  bool delta = false;            // PNG residuals against a neighbouring viewcell (Sec. 3.1.4)
+  std::string band = "street";   // navigable heights: street, all, or "Y0,Y1"
+  std::string path;              // bake only the viewcells this camera path passes through
   std::optional<Bounds3> limit;  // bake only the viewcells meeting this box (x0,z0,x1,z1)
-  int shells = 1;               // Ch. 4
+  int shells = 1;                // Ch. 4
   Spacing spacing = Spacing::exponential;
-  double factor = 1.13;         // b_{i+1} / b_i (the paper's 1.13 exponential, 1.72 linear)
+  double factor = 1.13;  // b_{i+1} / b_i (the paper's 1.13 exponential, 1.72 linear)
   // Walk.
   Style style = Style::full;
   int blend_frames = 0;  // Sec. 7.1: fade the new far field in over this many frames
