@@ -26,7 +26,7 @@ demo: build
 	$(BUILD)/farfield bake $(OUT)/city.ffscene --technique stratified \
 	  --set stratified.path=$(OUT)/street.json --out $(OUT)/city.ffpack
 	$(BUILD)/farfield bench $(OUT)/city.ffscene --path $(OUT)/street.json --store $(OUT)/city.ffpack \
-	  --technique brute,octree,colorcube,stratified --birdseye 300 --out $(OUT)/bench
+	  --technique brute,octree,colorcube,stratified,composite --birdseye 300 --out $(OUT)/bench
 	@echo "demo: report in $(OUT)/bench (bench.json, frame_times.png, sample frames and differences)"
 
 test: build

@@ -12,8 +12,6 @@
 
 namespace {
 
-constexpr uint64_t kFingerprint = 0x1234;
-
 void put(farfield::Store& store, const char* name, const std::string& bytes) {
   (void)store.put(name, std::as_bytes(std::span(bytes.data(), bytes.size())),
                   farfield::Codec::kNone);
@@ -41,11 +39,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       put(*store, "colorcube/proxy_vertices", records(sizeof(farfield::ProxyVertex)));
       put(*store, "colorcube/proxy_indices", records(sizeof(uint32_t)));
       put(*store, "colorcube/stats", records(sizeof(farfield::CubeTreeStats)));
-      (void)store->set_meta("colorcube/scene", in.ConsumeBool() ? std::to_string(kFingerprint)
-                                                                : in.ConsumeRandomLengthString(24));
       (void)transaction->commit();
     }
-    auto tree = farfield::load_cube_tree(*store, kFingerprint);
+    auto tree = farfield::load_cube_tree(*store);
     if (tree) {
       uint64_t sum = 0;
       for (const farfield::CubeCell& c : tree->cells) {

@@ -106,6 +106,11 @@ int run_viewer(const ViewSettings& s) {
   auto renderer = gpu::Renderer::create(*scene);
   if (!renderer) return fail(renderer.error().message);
   FrameLoop loop(**renderer);
+  // The techniques free their meshes and textures through the renderer: they go first.
+  struct ReleaseBeforeRenderer {
+    std::vector<std::unique_ptr<Technique>>& techniques;
+    ~ReleaseBeforeRenderer() { techniques.clear(); }
+  } release{techniques};
   // A technique that cannot load (stratified without its bake) stays unavailable, with why.
   std::vector<std::string> unavailable(descriptors.size());
   Progress quiet(true);

@@ -1,9 +1,5 @@
 #include "farfield/core/camera_path.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -12,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "farfield/core/atomic_file.hpp"
+#include "farfield/core/file_reading.hpp"
 
 namespace farfield {
 
@@ -21,10 +18,6 @@ using nlohmann::json;
 
 constexpr const char* kFormat = "farfield-path";
 constexpr int kVersion = 1;
-
-Error io_error(const std::string& file, const char* what) {
-  return make_error(file, ": ", what, ": ", std::strerror(errno));
-}
 
 // The shortest decimal that reads back as the same float, as a double, so that the JSON says
 // 12.3 rather than 12.300000190734863 and reading it back gives the float that was written.
@@ -44,26 +37,6 @@ std::string pose_problem(const CameraPose& p) {
   if (!(p.pitch_deg > -90.0f && p.pitch_deg < 90.0f))  // also refuses NaN
     return "pitch_deg must be a number in (-90, 90)";
   return {};
-}
-
-Result<void> read_whole(const std::string& file, std::string& text) {
-  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return io_error(file, "cannot open");
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
-  struct stat st {};
-  if (::fstat(fd, &st) != 0) return io_error(file, "cannot stat");
-  if (!S_ISREG(st.st_mode)) return make_error(file, ": not a regular file");
-  char chunk[65536];
-  for (;;) {
-    const ssize_t n = ::read(fd, chunk, sizeof chunk);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) return io_error(file, "read failed");
-    if (n == 0) return {};
-    text.append(chunk, static_cast<size_t>(n));
-  }
 }
 
 // A finite number that fits a float, or nothing.
@@ -120,9 +93,11 @@ Result<void> write_camera_path(const CameraPath& path, const std::string& file) 
 }
 
 Result<CameraPath> read_camera_path(const std::string& file) {
-  std::string text;
-  if (auto ok = read_whole(file, text); !ok) return ok.error();
-  return parse_camera_path(text, file);
+  auto opened = ReadableFile::open(file);
+  if (!opened) return opened.error();
+  auto text = opened->read_all();
+  if (!text) return text.error();
+  return parse_camera_path(*text, file);
 }
 
 Result<CameraPath> parse_camera_path(std::string_view text, const std::string& file) {

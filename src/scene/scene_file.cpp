@@ -13,6 +13,7 @@
 #include <xxhash.h>
 
 #include "farfield/core/atomic_file.hpp"
+#include "farfield/core/file_reading.hpp"
 
 namespace farfield {
 
@@ -60,22 +61,6 @@ std::span<const std::byte> section_bytes(const Scene& s, int section) {
 
 uint64_t header_checksum(const Header& h) {
   return XXH3_64bits(&h, offsetof(Header, header_checksum));
-}
-
-Error io_error(const std::string& path, const char* what) {
-  return make_error(path, ": ", what, ": ", std::strerror(errno));
-}
-
-bool read_all(int fd, void* data, size_t size) {
-  char* p = static_cast<char*>(data);
-  while (size > 0) {
-    const ssize_t n = ::read(fd, p, size);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    p += n;
-    size -= static_cast<size_t>(n);
-  }
-  return true;
 }
 
 // Checks the header alone: magic, version, checksum, section layout against the file size.
@@ -180,32 +165,19 @@ Result<void> write_scene(const Scene& scene, const std::string& path) {
 }
 
 Result<Scene> read_scene(const std::string& path, SceneFileInfo* info) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return io_error(path, "cannot open");
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
-  struct stat st {};
-  if (::fstat(fd, &st) != 0) return io_error(path, "cannot stat");
-  if (!S_ISREG(st.st_mode)) return make_error(path, ": not a regular file");
-  const uint64_t file_size = static_cast<uint64_t>(st.st_size);
+  auto file = ReadableFile::open(path);
+  if (!file) return file.error();
+  const uint64_t file_size = file->size();
   if (file_size == 0) return make_error(path, ": file is empty");
 
   Header h{};
   const size_t head = static_cast<size_t>(std::min<uint64_t>(file_size, sizeof(Header)));
-  if (!read_all(fd, &h, head)) return io_error(path, "read failed");
+  if (auto ok = file->read_at(&h, head, 0); !ok) return ok.error();
   if (auto ok = check_header(h, file_size, path); !ok) return ok.error();
-  ::posix_fadvise(fd, 0, 0, POSIX_FADV_SEQUENTIAL);
+  ::posix_fadvise(file->fd(), 0, 0, POSIX_FADV_SEQUENTIAL);
 
-  // Read each section straight into its array.
+  // Read each section straight into its array, of any size.
   Scene scene;
-  auto read_section = [&](void* dst, int s) {
-    const SectionEntry& e = h.sections[s];
-    const uint64_t bytes = e.count * kElementSize[s];
-    return bytes == 0 || (::pread(fd, dst, bytes, static_cast<off_t>(e.offset)) ==
-                              static_cast<ssize_t>(bytes));
-  };
   scene.objects.resize(h.sections[kObjects].count);
   scene.materials.resize(h.sections[kMaterials].count);
   scene.vertices.resize(h.sections[kVertices].count);
@@ -214,7 +186,9 @@ Result<Scene> read_scene(const std::string& path, SceneFileInfo* info) {
   void* targets[kSectionCount] = {scene.objects.data(), scene.materials.data(),
                                   scene.vertices.data(), scene.indices.data(), scene.names.data()};
   for (int s = 0; s < kSectionCount; ++s) {
-    if (!read_section(targets[s], s)) return io_error(path, "read failed");
+    const SectionEntry& e = h.sections[s];
+    if (auto ok = file->read_at(targets[s], e.count * kElementSize[s], e.offset); !ok)
+      return ok.error();
   }
   if (info) *info = {h.version, file_size};
   return finish(std::move(scene), h, path, true);
@@ -238,12 +212,10 @@ Result<Scene> parse_scene(std::span<const std::byte> bytes, const std::string& n
 }
 
 bool is_scene_file(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return false;
+  auto file = ReadableFile::open(path);
   char magic[sizeof(kMagic)] = {};
-  const bool ok = read_all(fd, magic, sizeof(magic)) && std::memcmp(magic, kMagic, sizeof(kMagic)) == 0;
-  ::close(fd);
-  return ok;
+  return file && file->size() >= sizeof(magic) && file->read_at(magic, sizeof(magic), 0) &&
+         std::memcmp(magic, kMagic, sizeof(kMagic)) == 0;
 }
 
 }  // namespace farfield

@@ -142,8 +142,7 @@ Result<void> ColorcubeTechnique::use(CubeTree tree, gpu::Device& device) {
 Result<void> ColorcubeTechnique::bake(const BakeContext& context) {
   auto tree = build_cube_tree(context.scene, options_.tree, context.progress);
   if (!tree) return make_error("colorcube: ", tree.error().message);
-  if (auto ok = save_cube_tree(*tree, scene_fingerprint(context.scene), context.store); !ok)
-    return ok;
+  if (auto ok = save_cube_tree(*tree, context.store); !ok) return ok;
   tree_ = std::move(*tree);
   return {};
 }
@@ -154,7 +153,11 @@ Result<void> ColorcubeTechnique::load(const LoadContext& context) {
                               : Result<std::optional<BakeRecord>>(std::optional<BakeRecord>{});
   if (!record) return record.error();
   if (*record) {
-    auto tree = load_cube_tree(*context.store, scene_fingerprint(context.scene));
+    if (auto usable = usable_bake(*context.store, "colorcube", colorcube_descriptor.bake_format,
+                                  scene_fingerprint(context.scene));
+        !usable)
+      return usable.error();
+    auto tree = load_cube_tree(*context.store);
     if (!tree) return tree.error();
     return use(std::move(*tree), context.device);
   }

@@ -1,5 +1,7 @@
-// The colour-cube tree in a .ffpack store: three arrays as zstd blobs, the statistics and the
-// scene's fingerprint as metadata. Reading checks every index before the tree is used.
+// The colour-cube tree in a .ffpack store: the cells, proxy vertices and indices and the
+// statistics as zstd blobs, paper 002's Table 1 as metadata. Which scene it was made for is
+// the bake record's business (store/bake_record.hpp). Reading checks every index before the
+// tree is used.
 #include <cstring>
 #include <string>
 
@@ -14,7 +16,6 @@ constexpr const char* kCells = "colorcube/cells";
 constexpr const char* kVertices = "colorcube/proxy_vertices";
 constexpr const char* kIndices = "colorcube/proxy_indices";
 constexpr const char* kStats = "colorcube/stats";
-constexpr const char* kScene = "colorcube/scene";
 
 template <class T>
 std::span<const std::byte> bytes_of(const std::vector<T>& v) {
@@ -34,7 +35,7 @@ Result<std::vector<T>> read_array(const Store& store, const char* name) {
 
 }  // namespace
 
-Result<void> save_cube_tree(const CubeTree& tree, uint64_t fingerprint, Store& store) {
+Result<void> save_cube_tree(const CubeTree& tree, Store& store) {
   auto transaction = store.begin();
   if (!transaction) return transaction.error();
   if (auto erased = store.erase("colorcube/"); !erased) return erased.error();
@@ -43,7 +44,6 @@ Result<void> save_cube_tree(const CubeTree& tree, uint64_t fingerprint, Store& s
   if (auto ok = store.put(kIndices, bytes_of(tree.proxies.indices)); !ok) return ok;
   const std::vector<CubeTreeStats> stats{tree.stats};
   if (auto ok = store.put(kStats, bytes_of(stats)); !ok) return ok;
-  if (auto ok = store.set_meta(kScene, std::to_string(fingerprint)); !ok) return ok;
   const CubeTreeStats& s = tree.stats;
   const std::string table = "cells " + std::to_string(s.cells) + ", levels " +
                             std::to_string(s.levels) + ", cluster " + std::to_string(s.cluster) +
@@ -56,14 +56,7 @@ Result<void> save_cube_tree(const CubeTree& tree, uint64_t fingerprint, Store& s
   return transaction->commit();
 }
 
-Result<CubeTree> load_cube_tree(const Store& store, uint64_t fingerprint) {
-  auto scene = store.get_meta(kScene);
-  if (!scene) return scene.error();
-  if (!*scene)
-    return make_error(store.path(), ": holds no colorcube bake (run: farfield bake SCENE "
-                                    "--technique colorcube --out ", store.path(), ")");
-  if (**scene != std::to_string(fingerprint))
-    return make_error(store.path(), ": its colorcube bake was made for another scene");
+Result<CubeTree> load_cube_tree(const Store& store) {
   CubeTree tree;
   auto cells = read_array<CubeCell>(store, kCells);
   if (!cells) return cells.error();

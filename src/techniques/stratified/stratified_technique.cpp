@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "farfield/core/frustum.hpp"
+#include "farfield/store/bake_record.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/stratified/box_faces.hpp"
 
@@ -61,17 +62,15 @@ Result<void> StratifiedTechnique::load(const LoadContext& context) {
         "stratified --out PACK.ffpack`, then pass --store PACK.ffpack");
   const Scene& scene = context.scene;
   const Store& store = *context.store;
+  if (auto usable = usable_bake(store, "stratified", stratified_descriptor.bake_format,
+                                scene_fingerprint(scene));
+      !usable)
+    return usable.error();
   auto text = store.get_meta(kParamsKey);
   if (!text) return text.error();
-  if (!*text)
-    return make_error(store.path(),
-                      ": holds no stratified bake (run: farfield bake SCENE "
-                      "--technique stratified --out ",
-                      store.path(), ")");
+  if (!*text) return make_error(store.path(), ": its stratified bake has no parameters; re-bake it");
   auto params = parse_params(**text);
   if (!params) return make_error(store.path(), ": ", params.error().message);
-  if (params->scene != scene_fingerprint(scene))
-    return make_error(store.path(), ": its stratified bake was made for another scene");
   params_ = *params;
   scene_ = &scene;
   shells_.clear();

@@ -69,10 +69,11 @@ struct CubeTree {
 Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& options,
                                  Progress& progress);
 
-// A built tree into a store (blobs under "colorcube/"), with its statistics and the scene's
-// fingerprint as metadata; and back, refusing another scene's bake or an inconsistent one.
-Result<void> save_cube_tree(const CubeTree& tree, uint64_t scene_fingerprint, Store& store);
-Result<CubeTree> load_cube_tree(const Store& store, uint64_t scene_fingerprint);
+// A built tree into a store (blobs under "colorcube/", replacing a tree there), with its
+// statistics as metadata; and back, refusing a missing or inconsistent one. Whether the bake
+// belongs to the scene is checked before, from its bake record (usable_bake).
+Result<void> save_cube_tree(const CubeTree& tree, Store& store);
+Result<CubeTree> load_cube_tree(const Store& store);
 
 // The depth build_cube_tree uses when options.depth is 0.
 int derived_depth(const Scene& scene, int triangles_per_leaf);
