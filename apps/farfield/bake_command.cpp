@@ -21,8 +21,8 @@ void add_bake_command(CLI::App& root, std::vector<Command>& commands) {
       "bench and view load it with --store. A colorcube bake replaces the pack's "
       "colorcube bake; a stratified bake commits each viewcell as it goes: run it again "
       "with the same settings after an interruption and it continues (other settings "
-      "need a new pack). Settings (--set NAME.KEY=VALUE, docs/techniques/):\n" +
-          techniques_help());
+      "need a new pack). Settings: --set NAME.KEY=VALUE, listed by 'farfield techniques' "
+      "(docs/techniques/).");
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
   cmd->add_option("--technique,-t", s->technique, "The technique to bake: colorcube or stratified")
       ->required();

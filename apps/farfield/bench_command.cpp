@@ -21,9 +21,8 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
   const std::string technique_help =
       "Techniques to compare, comma-separated; brute always runs "
       "first as the reference. 'raw' adds the protocol's bound "
-      "(every triangle in one draw). Known, with their settings "
-      "(--set NAME.KEY=VALUE):\n" +
-      techniques_help();
+      "(every triangle in one draw). Known (their settings: farfield techniques):\n" +
+      techniques_help(false);
   CLI::App* cmd = root.add_subcommand(
       "bench",
       "Play a camera path headless for each technique; write DIR/bench.json, sample "

@@ -46,13 +46,14 @@ Result<void> Technique::bake(const BakeContext&) {
                     "moments from the scene");
 }
 
-std::string techniques_help() {
+std::string techniques_help(bool with_settings) {
   std::string help;
   for (const TechniqueDescriptor* d : kTechniques) {
     help += "  " + std::string(d->name) + ": " + std::string(d->summary);
     if (!d->paper.empty()) help += " (paper " + std::string(d->paper) + ")";
     if (d->bake == BakeUse::required) help += "; needs a bake";
     help += "\n";
+    if (!with_settings) continue;
     for (const SettingSpec& s : d->settings)
       help += "      " + std::string(d->name) + "." + std::string(s.key) + ": " +
               std::string(s.help) + " [" + describe_setting(s) + "]" + (s.baked ? " (baked)" : "") +

@@ -107,8 +107,8 @@ Result<std::unique_ptr<Technique>> make_technique(std::string_view name,
 
 // The rule of a setting as --help shows it: "number in (0, 90) deg, default 2".
 std::string describe_setting(const SettingSpec& spec);
-// --help text for every technique and its settings.
-std::string techniques_help();
+// --help text for every technique, a line each, with its settings when asked.
+std::string techniques_help(bool with_settings = true);
 // The settings of one technique as a Markdown table (docs/techniques/NAME.md holds it).
 std::string settings_table_markdown(const TechniqueDescriptor& descriptor);
 
