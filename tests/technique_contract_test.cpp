@@ -120,3 +120,36 @@ TEST(TechniqueContract, OneParserRefusesWhatNoTechniqueTakes) {
 
 }  // namespace
 }  // namespace farfield
+
+namespace farfield {
+namespace {
+
+// A technique's render resources live on the device it loaded with and go with it: colorcube
+// makes one mesh, the mesh its cube faces, and frees it when destroyed; its draws name it.
+TEST(TechniqueContract, ResourcesAreMadeOnTheDeviceAndFreedWithTheTechnique) {
+  const Scene scene = test::make_box_row(4);
+  gpu::MemoryDevice device;
+  {
+    auto technique = make_technique("colorcube", test::settings_of({"colorcube.depth=2"}));
+    ASSERT_TRUE(technique) << technique.error().message;
+    ASSERT_TRUE(test::load_technique(**technique, scene, &device));
+    ASSERT_EQ(device.live_meshes(), 1u);
+    EXPECT_EQ(device.live_textures(), 0u);
+    View view;
+    view.pose.position = {0.5f, 0.5f, -3.0f};
+    view.pose.yaw_deg = 90;
+    DrawList list;
+    test::select_view(**technique, view, list);
+    ASSERT_FALSE(list.meshes.empty());
+    const ProxyMesh& mesh = device.mesh(list.meshes[0].mesh);
+    for (const MeshDraw& d : list.meshes) {
+      EXPECT_EQ(d.mesh, list.meshes[0].mesh);
+      EXPECT_LE(uint64_t(d.first_index) + d.index_count, mesh.indices.size());
+    }
+    EXPECT_GT(device.resource_bytes(), 0u);
+  }
+  EXPECT_EQ(device.live_meshes(), 0u);
+}
+
+}  // namespace
+}  // namespace farfield

@@ -52,8 +52,6 @@ class FrameLoop {
                      const std::function<View(uint64_t)>& view_of, const FrameBudget& budget,
                      const std::function<void(uint64_t, const FrameTiming&)>& after);
 
-  // The list of the last frame run() drew.
-  const DrawList& list() const { return list_; }
 
  private:
   gpu::Renderer& renderer_;

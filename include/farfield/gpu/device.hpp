@@ -72,7 +72,6 @@ class OwnedResources {
                                    std::span<const uint32_t> indices);
   TextureHandle texture();
   void release();
-  Device* device() const { return device_; }
 
  private:
   Device* device_ = nullptr;
