@@ -128,6 +128,32 @@ TEST(Octree, ObjectsThatAllStraddleTheCentreStopTheSplit) {
   EXPECT_EQ(tree.items.size(), 50u);
 }
 
+TEST(Octree, FixedDepthSplitsEveryNodeInsideTheGivenRoot) {
+  // Paper 002's colour-cube tree: every occupied cell split down to the depth, however few
+  // items it holds, over a root cube the caller chooses.
+  const Bounds3 root = box({0, 0, 0}, {8, 8, 8});
+  std::vector<Bounds3> items = {box({0.5f, 0.5f, 0.5f}, {0.6f, 0.6f, 0.6f}),
+                                box({4, 4, 4}, {5, 5, 5}),       // touches the centre from above
+                                box({20, 20, 20}, {21, 21, 21})};  // outside the root: skipped
+  const Octree tree = build_octree(items, {.max_depth = 3, .split_to_max_depth = true, .root = root});
+  ASSERT_FALSE(tree.nodes.empty());
+  EXPECT_EQ(tree.nodes[0].bounds.min, root.min);
+  EXPECT_EQ(tree.nodes[0].bounds.max, root.max);
+  EXPECT_EQ(tree.depth, 3u);
+  // Item 0 sits in one cell a level. Item 1 starts on the root's centre, so it is only in the
+  // upper octant there; it ends on the centre of [4, 6]^3, so it is in both halves there.
+  size_t leaves_of[3] = {0, 0, 0};
+  for (const OctreeNode& n : tree.nodes) {
+    if (!n.leaf()) continue;
+    EXPECT_FLOAT_EQ(n.bounds.size().x, 1.0f);  // every leaf at depth 3
+    for (uint32_t i = n.items_begin; i < n.items_end; ++i) leaves_of[tree.items[i]]++;
+  }
+  EXPECT_EQ(leaves_of[0], 1u);
+  EXPECT_EQ(leaves_of[1], 8u);
+  EXPECT_EQ(leaves_of[2], 0u);
+  EXPECT_EQ(tree.nodes[0].child_count, 2u);
+}
+
 TEST(ObjectSet, EmitsInSceneOrderAndMergesNeighbours) {
   const Scene scene = test::make_box_row(6);  // materials alternate opaque / transparent
   ObjectSet set(scene);

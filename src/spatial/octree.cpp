@@ -1,6 +1,7 @@
 #include "farfield/spatial/octree.hpp"
 
 #include <algorithm>
+#include <bit>
 
 #include "farfield/core/assert.hpp"
 
@@ -8,9 +9,18 @@ namespace farfield {
 
 namespace {
 
-bool overlaps(const Bounds3& a, const Bounds3& b) {
-  return a.min.x <= b.max.x && a.max.x >= b.min.x && a.min.y <= b.max.y && a.max.y >= b.min.y &&
-         a.min.z <= b.max.z && a.max.z >= b.min.z;
+// The children of `cube` a box overlaps, as a bit mask over child numbers (bit 0 of a child
+// number: upper in x, bit 1: in y, bit 2: in z), for a box known to overlap `cube`.
+uint32_t children_overlapped(const Bounds3& cube, const Bounds3& box) {
+  const glm::vec3 mid = cube.center();
+  uint32_t axis_halves[3];  // per axis: bit 0 the lower half, bit 1 the upper half
+  for (int a = 0; a < 3; ++a) axis_halves[a] = uint32_t(box.min[a] < mid[a]) | uint32_t(box.max[a] >= mid[a]) << 1;
+  uint32_t mask = 0;
+  for (int child = 0; child < 8; ++child)
+    if ((axis_halves[0] >> (child & 1) & 1) && (axis_halves[1] >> (child >> 1 & 1) & 1) &&
+        (axis_halves[2] >> (child >> 2 & 1) & 1))
+      mask |= 1u << child;
+  return mask;
 }
 
 Bounds3 child_cube(const Bounds3& cube, int child) {
@@ -34,20 +44,19 @@ class Builder {
     tree_.depth = std::max(tree_.depth, depth);
     tree_.nodes[index].items_begin = static_cast<uint32_t>(tree_.items.size());
     std::vector<uint32_t> parts[8];
-    bool split = objects.size() > options_.objects_per_leaf && depth < options_.max_depth;
+    bool split = depth < options_.max_depth &&
+                 (options_.split_to_max_depth || objects.size() > options_.objects_per_leaf);
     if (split) {
       const Bounds3 cube = tree_.nodes[index].bounds;
-      for (int c = 0; c < 8; ++c) {
-        const Bounds3 child = child_cube(cube, c);
-        for (uint32_t o : objects)
-          if (overlaps(bounds_[o], child)) parts[c].push_back(o);
-      }
+      for (uint32_t o : objects)
+        for (uint32_t m = children_overlapped(cube, bounds_[o]); m != 0; m &= m - 1)
+          parts[std::countr_zero(m)].push_back(o);
       // When two children would each hold every object, they all straddle the centre and
       // splitting only repeats them.
       const auto everything = [&](const std::vector<uint32_t>& p) {
         return p.size() == objects.size();
       };
-      split = std::count_if(parts, parts + 8, everything) <= 1;
+      split = options_.split_to_max_depth || std::count_if(parts, parts + 8, everything) <= 1;
     }
     if (!split) {
       tree_.items.insert(tree_.items.end(), objects.begin(), objects.end());
@@ -86,20 +95,25 @@ class Builder {
 
 Octree build_octree(std::span<const Bounds3> object_bounds, const OctreeOptions& options) {
   FF_ASSERT(options.objects_per_leaf > 0, "objects_per_leaf %u", options.objects_per_leaf);
+  FF_ASSERT(object_bounds.size() < UINT32_MAX, "%zu items", object_bounds.size());
   Octree tree;
   Bounds3 all;
   std::vector<uint32_t> objects;
   for (uint32_t i = 0; i < object_bounds.size(); ++i) {
-    if (object_bounds[i].empty()) continue;
+    if (object_bounds[i].empty() || (!options.root.empty() && !meet(options.root, object_bounds[i]))) continue;
     all.expand(object_bounds[i]);
     objects.push_back(i);
   }
   if (objects.empty()) return tree;
-  // The bounding cube: equal subvolumes at every level (paper 004, Sec. 2.1).
-  const float half = 0.5f * std::max({all.size().x, all.size().y, all.size().z}) * 1.0001f + 1e-6f;
   OctreeNode root;
-  root.bounds.min = all.center() - glm::vec3(half);
-  root.bounds.max = all.center() + glm::vec3(half);
+  if (!options.root.empty()) {
+    root.bounds = options.root;
+  } else {
+    // The bounding cube: equal subvolumes at every level (paper 004, Sec. 2.1).
+    const float half = 0.5f * std::max({all.size().x, all.size().y, all.size().z}) * 1.0001f + 1e-6f;
+    root.bounds.min = all.center() - glm::vec3(half);
+    root.bounds.max = all.center() + glm::vec3(half);
+  }
   tree.nodes.push_back(root);
   Builder(object_bounds, options, tree).fill(0, std::move(objects), 0);
   return tree;

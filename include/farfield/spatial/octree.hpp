@@ -1,6 +1,9 @@
-// An octree of objects over the scene's bounding cube (paper 004, Sec. 2.1): each node is
-// split into eight equal children until it holds few objects or reaches the maximum depth;
-// empty children are pruned; an object is listed in every leaf its bounds overlap.
+// An octree of items (objects, or triangles) over their bounding cube (paper 004, Sec. 2.1):
+// each node is split into eight equal children until it holds few items or reaches the
+// maximum depth, or (paper 002's colour-cube tree, Sec. 4.1) every node down to a fixed depth;
+// empty children are pruned; an item is listed in every leaf its box overlaps. A child is
+// half-open towards the centre ([min, mid) below, [mid, max] above), so a box that only
+// touches the centre plane from above is not listed below it.
 //
 // Layout: nodes in a flat array (root first, children of a node contiguous); leaf items
 // (object numbers) in depth-first order, so the objects below any node are one contiguous
@@ -18,6 +21,8 @@ namespace farfield {
 struct OctreeOptions {
   uint32_t max_depth = 12;        // levels below the root
   uint32_t objects_per_leaf = 8;  // a node holding more is split
+  bool split_to_max_depth = false;  // split every node down to max_depth, whatever it holds
+  Bounds3 root;  // the cube to subdivide; empty: the items' bounding cube
 };
 
 struct OctreeNode {
@@ -36,7 +41,7 @@ struct Octree {
   uint32_t leaves = 0;
 };
 
-// `object_bounds[i]` is object i's box; empty boxes are skipped.
+// `object_bounds[i]` is item i's box; empty boxes, and boxes outside a given root, are skipped.
 Octree build_octree(std::span<const Bounds3> object_bounds, const OctreeOptions& options);
 
 }  // namespace farfield

@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <atomic>
-#include <bit>
 #include <chrono>
 #include <cmath>
+#include <span>
 #include <thread>
 
 #include "farfield/core/assert.hpp"
 #include "farfield/gpu/lighting.hpp"
+#include "farfield/spatial/octree.hpp"
 
 namespace farfield {
 
@@ -24,99 +25,58 @@ Bounds3 bounding_cube(const Bounds3& b) {
   return cube;
 }
 
-Bounds3 octant(const Bounds3& cube, int child) {
-  const glm::vec3 mid = cube.center();
-  Bounds3 b;
-  for (int a = 0; a < 3; ++a) {
-    const bool upper = (child >> a) & 1;
-    b.min[a] = upper ? mid[a] : cube.min[a];
-    b.max[a] = upper ? cube.max[a] : mid[a];
-  }
-  return b;
-}
-
-// The octants a box overlaps, as a bit mask over child indices.
-uint32_t octant_mask(const Bounds3& cube, const glm::vec3& lo, const glm::vec3& hi) {
-  const glm::vec3 mid = cube.center();
-  uint32_t mask = 0;
-  for (int child = 0; child < 8; ++child) {
-    bool overlaps = true;
-    for (int a = 0; a < 3 && overlaps; ++a) {
-      const bool upper = (child >> a) & 1;
-      overlaps = upper ? hi[a] >= mid[a] && lo[a] <= cube.max[a] : lo[a] < mid[a] && hi[a] >= cube.min[a];
-    }
-    if (overlaps) mask |= 1u << child;
-  }
-  return mask;
-}
-
-struct Builder {
-  const Scene& scene;
-  const CubeTreeOptions& options;
-  int depth;
-  CubeTree& tree;
-  std::vector<std::vector<uint32_t>> leaf_triangles;  // overlapping, by leaf order
-  std::vector<std::vector<uint32_t>> leaf_owned;      // centroid inside, by leaf order
-  std::vector<uint32_t> leaf_cells;                   // cell of each leaf
-
-  void triangle_box(uint32_t t, glm::vec3& lo, glm::vec3& hi) const {
-    const uint32_t* idx = scene.indices.data() + size_t(t) * 3;
-    lo = hi = scene.vertices[idx[0]].position;
-    for (int i = 1; i < 3; ++i) {
-      lo = glm::min(lo, scene.vertices[idx[i]].position);
-      hi = glm::max(hi, scene.vertices[idx[i]].position);
-    }
-  }
-
-  // Fills cell `index` from its triangles and objects, depth first (paper 002, Sec. 4.1:
-  // each primitive goes to every leaf it lies in; empty cells are pruned).
-  void fill(uint32_t index, std::vector<uint32_t> triangles) {
-    const CubeCell& cell = tree.cells[index];
-    if (int(cell.level) == depth) {
-      // Ownership by centroid, half-open per axis, so every triangle has exactly one owner.
-      std::vector<uint32_t> owned;
-      for (uint32_t t : triangles) {
-        const uint32_t* idx = scene.indices.data() + size_t(t) * 3;
-        const glm::vec3 c = (scene.vertices[idx[0]].position + scene.vertices[idx[1]].position +
-                             scene.vertices[idx[2]].position) / 3.0f;
-        if (c.x >= cell.bounds.min.x && c.x < cell.bounds.max.x && c.y >= cell.bounds.min.y &&
-            c.y < cell.bounds.max.y && c.z >= cell.bounds.min.z && c.z < cell.bounds.max.z)
-          owned.push_back(t);
-      }
-      leaf_cells.push_back(index);
-      leaf_triangles.push_back(std::move(triangles));
-      leaf_owned.push_back(std::move(owned));
-      return;
-    }
-    const Bounds3 cube = cell.bounds;
-    const uint32_t level = cell.level;
-    std::array<std::vector<uint32_t>, 8> child_triangles;
-    glm::vec3 lo, hi;
-    for (uint32_t t : triangles) {
-      triangle_box(t, lo, hi);
-      for (uint32_t m = octant_mask(cube, lo, hi); m != 0; m &= m - 1)
-        child_triangles[std::countr_zero(m)].push_back(t);
-    }
-    triangles = {};
-    const uint32_t first = uint32_t(tree.cells.size());
-    uint32_t count = 0;
-    for (int c = 0; c < 8; ++c) {
-      if (child_triangles[c].empty()) continue;
-      CubeCell child;
-      child.bounds = octant(cube, c);
-      child.level = level + 1;
-      tree.cells.push_back(child);
-      ++count;
-    }
-    tree.cells[index].first_child = first;
-    tree.cells[index].child_count = count;
-    uint32_t slot = first;
-    for (int c = 0; c < 8; ++c) {
-      if (child_triangles[c].empty()) continue;
-      fill(slot++, std::move(child_triangles[c]));
-    }
-  }
+// The fixed-depth octree of paper 002 (Sec. 4.1: each primitive goes to every leaf it lies
+// in; empty cells are pruned), built by spatial/octree over the triangles' boxes; each leaf
+// also owns, by centroid, the triangles it draws as geometry.
+struct Subdivision {
+  std::vector<uint32_t> items;                          // the octree's leaf items
+  std::vector<std::span<const uint32_t>> leaf_triangles;  // overlapping, by leaf order
+  std::vector<std::vector<uint32_t>> leaf_owned;        // centroid inside, by leaf order
+  std::vector<uint32_t> leaf_cells;                     // cell of each leaf, depth first
 };
+
+Subdivision subdivide(const Scene& scene, int depth, CubeTree& tree) {
+  std::vector<Bounds3> boxes(scene.triangle_count());
+  for (size_t t = 0; t < boxes.size(); ++t)
+    for (int k = 0; k < 3; ++k) boxes[t].expand(scene.vertices[scene.indices[t * 3 + k]].position);
+  Octree octree = build_octree(
+      boxes, {.max_depth = uint32_t(depth), .split_to_max_depth = true, .root = bounding_cube(scene.bounds)});
+  boxes = {};
+  tree.cells.resize(octree.nodes.size());
+  for (size_t i = 0; i < octree.nodes.size(); ++i) {
+    const OctreeNode& node = octree.nodes[i];
+    CubeCell& cell = tree.cells[i];
+    cell.bounds = node.bounds;
+    cell.first_child = node.first_child;
+    cell.child_count = node.child_count;
+    for (uint32_t k = 0; k < node.child_count; ++k) tree.cells[node.first_child + k].level = cell.level + 1;
+  }
+  Subdivision out;
+  out.items = std::move(octree.items);
+  for (uint32_t i = 0; i < octree.nodes.size(); ++i)
+    if (octree.nodes[i].leaf()) out.leaf_cells.push_back(i);
+  // Depth-first leaf order: the order of their item ranges.
+  std::sort(out.leaf_cells.begin(), out.leaf_cells.end(), [&](uint32_t a, uint32_t b) {
+    return octree.nodes[a].items_begin < octree.nodes[b].items_begin;
+  });
+  for (uint32_t leaf : out.leaf_cells) {
+    const OctreeNode& node = octree.nodes[leaf];
+    const std::span<const uint32_t> triangles(out.items.data() + node.items_begin, node.items_end - node.items_begin);
+    // Ownership by centroid, half-open per axis, so every triangle has exactly one owner.
+    std::vector<uint32_t> owned;
+    for (uint32_t t : triangles) {
+      const uint32_t* idx = scene.indices.data() + size_t(t) * 3;
+      const glm::vec3 c = (scene.vertices[idx[0]].position + scene.vertices[idx[1]].position +
+                           scene.vertices[idx[2]].position) / 3.0f;
+      if (c.x >= node.bounds.min.x && c.x < node.bounds.max.x && c.y >= node.bounds.min.y &&
+          c.y < node.bounds.max.y && c.z >= node.bounds.min.z && c.z < node.bounds.max.z)
+        owned.push_back(t);
+    }
+    out.leaf_triangles.push_back(triangles);
+    out.leaf_owned.push_back(std::move(owned));
+  }
+  return out;
+}
 
 // Appends the quad of `face` of the box [lo, hi], counter-clockwise seen from outside.
 void add_face_quad(ProxyMesh& mesh, const glm::vec3& lo, const glm::vec3& hi, int face,
@@ -177,27 +137,20 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
   const auto start = Clock::now();
   CubeTree tree;
   const int depth = o.depth > 0 ? o.depth : derived_depth(scene, o.triangles_per_leaf);
-  Builder builder{scene, o, depth, tree, {}, {}, {}};
-  CubeCell root;
-  root.bounds = bounding_cube(scene.bounds);
-  tree.cells.push_back(root);
-  std::vector<uint32_t> triangles(scene.triangle_count());
-  for (uint32_t t = 0; t < triangles.size(); ++t) triangles[t] = t;
-  builder.fill(0, std::move(triangles));
+  Subdivision split = subdivide(scene, depth, tree);
 
   // Phase I (paper 002, Sec. 5.1): render every leaf, on every core.
   const int c = o.leaf.cluster, per_cell = c * c * c;
   std::vector<ColorCube> cubes(tree.cells.size() * size_t(per_cell));
   const std::vector<uint32_t> materials = triangle_materials(scene);
-  const size_t leaves = builder.leaf_cells.size();
+  const size_t leaves = split.leaf_cells.size();
   std::atomic<size_t> next{0}, done{0};
   auto work = [&] {
     for (size_t i; (i = next.fetch_add(1)) < leaves; done.fetch_add(1)) {
-      const uint32_t cell = builder.leaf_cells[i];
+      const uint32_t cell = split.leaf_cells[i];
       std::vector<ColorCube> baked =
-          bake_leaf(scene, materials, builder.leaf_triangles[i], tree.cells[cell].bounds, o.leaf);
+          bake_leaf(scene, materials, split.leaf_triangles[i], tree.cells[cell].bounds, o.leaf);
       std::copy(baked.begin(), baked.end(), cubes.begin() + size_t(cell) * per_cell);
-      builder.leaf_triangles[i] = {};
     }
   };
   const unsigned threads = o.threads > 0 ? unsigned(o.threads) : std::max(1u, std::thread::hardware_concurrency());
@@ -212,6 +165,8 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
   }
   for (auto& t : pool) t.join();
   progress.finish();
+  split.leaf_triangles = {};
+  split.items = {};
   tree.stats.leaf_bake_s = std::chrono::duration<double>(Clock::now() - start).count();
 
   // Phase II: parents from children, deepest first (children follow their parent in `cells`).
@@ -286,17 +241,17 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
   // The leaves' own triangles, lit per vertex (gpu/lighting.hpp), vertices shared per leaf.
   std::vector<uint32_t> local;
   for (size_t l = 0; l < leaves; ++l) {
-    CubeCell& cell = tree.cells[builder.leaf_cells[l]];
+    CubeCell& cell = tree.cells[split.leaf_cells[l]];
     cell.geometry_begin = uint32_t(tree.proxies.indices.size());
     local.clear();
-    for (uint32_t t : builder.leaf_owned[l])
+    for (uint32_t t : split.leaf_owned[l])
       for (int k = 0; k < 3; ++k) local.push_back(scene.indices[size_t(t) * 3 + k]);
     std::sort(local.begin(), local.end());
     local.erase(std::unique(local.begin(), local.end()), local.end());
     const uint32_t base = uint32_t(tree.proxies.vertices.size());
     // A vertex's material is its triangles' (objects do not share vertices).
     std::vector<int32_t> material_of(local.size(), -1);
-    for (uint32_t t : builder.leaf_owned[l])
+    for (uint32_t t : split.leaf_owned[l])
       for (int k = 0; k < 3; ++k) {
         const size_t at = size_t(std::lower_bound(local.begin(), local.end(),
                                                   scene.indices[size_t(t) * 3 + k]) - local.begin());
@@ -308,7 +263,7 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
       const glm::vec3 lit = gpu::shade(unpack_normal(v.normal), glm::vec3(unpack_color(v.color)) * glm::vec3(tint));
       tree.proxies.vertices.push_back({v.position, pack_color(glm::vec4(lit, tint.a))});
     }
-    for (uint32_t t : builder.leaf_owned[l])
+    for (uint32_t t : split.leaf_owned[l])
       for (int k = 0; k < 3; ++k)
         tree.proxies.indices.push_back(
             base + uint32_t(std::lower_bound(local.begin(), local.end(), scene.indices[size_t(t) * 3 + k]) -
@@ -316,8 +271,8 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
     cell.geometry_count = uint32_t(tree.proxies.indices.size()) - cell.geometry_begin;
     cell.reach = cell.bounds;
     for (uint32_t v : local) cell.reach.expand(scene.vertices[v].position);
-    tree.stats.geometry_triangles += builder.leaf_owned[l].size();
-    builder.leaf_owned[l] = {};
+    tree.stats.geometry_triangles += split.leaf_owned[l].size();
+    split.leaf_owned[l] = {};
   }
   // Parents reach as far as their children (children follow their parent in `cells`).
   for (size_t i = tree.cells.size(); i-- > 0;) {
