@@ -76,6 +76,17 @@ TEST(BenchGL, WritesEveryFieldAndOctreeMatchesBrute) {
   for (const char* file : {"brute_frame0000.png", "octree_frame0011.png",
                            "octree_frame0011_diff.png", "frame_times.png"})
     EXPECT_TRUE(std::filesystem::exists(dir.file("out/") + file)) << file;
+
+  // A second run into the folder leaves none of the first run's images, and nothing else of
+  // the user's is touched.
+  test::write_file(dir.file("out/notes.txt"), "mine");
+  options.techniques = {"raw"};
+  options.plot = false;
+  ASSERT_TRUE(run_bench(*city, *path, options, quiet));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out/octree_frame0011.png")));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out/frame_times.png")));
+  EXPECT_TRUE(std::filesystem::exists(dir.file("out/raw_frame0011.png")));
+  EXPECT_TRUE(std::filesystem::exists(dir.file("out/notes.txt")));
 }
 
 TEST(Bench, RefusesBadOptionsBeforeRendering) {

@@ -41,6 +41,44 @@ TEST(Cli, UsageErrorsExitTwo) {
   EXPECT_NE(r.output.find("--bogus"), std::string::npos) << r.output;
 }
 
+TEST(Cli, MessagesNameTheProblemOnce) {
+  TempDir dir;
+  // An unknown command is named as such, with the known ones.
+  auto r = run_farfield("benc");
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.output.find("farfield: unknown command 'benc'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("bench"), std::string::npos) << r.output;
+  // CLI11's errors carry the prefix and one pointer to the command's help.
+  r = run_farfield("bench --bogus");
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_EQ(r.output.rfind("farfield: ", 0), 0u) << r.output;
+  EXPECT_NE(r.output.find("farfield bench --help"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("Run with --help"), std::string::npos) << r.output;
+  // The option the user gave is the one named; numbers as written.
+  r = run_farfield("generate city --blocks 0 --out " + quoted(dir.file("x.ffscene")));
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.output.find("--blocks"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("--blocks-x"), std::string::npos) << r.output;
+  ASSERT_TRUE(write_scene(test::make_box_row(1), dir.file("one.ffscene")));
+  r = run_farfield("path " + quoted(dir.file("one.ffscene")) + " --kind orbit --frames 1 --out " +
+                   quoted(dir.file("p.json")));
+  EXPECT_EQ(r.exit_status, 0) << r.output;
+  EXPECT_NE(r.output.find(", 1 frame,"), std::string::npos) << r.output;
+  r = run_farfield("bench " + quoted(dir.file("one.ffscene")) + " --path " + quoted(dir.file("p.json")) +
+                   " --hfov 200 --out " + quoted(dir.file("b")));
+  EXPECT_NE(r.output.find("(got 200)"), std::string::npos) << r.output;
+  // A file of another kind is called what it seems to be.
+  r = run_farfield("info " + quoted(dir.file("p.json")));
+  EXPECT_EQ(r.exit_status, 1);
+  EXPECT_NE(r.output.find("it is JSON"), std::string::npos) << r.output;
+  // A screenshot name farfield cannot write is refused before the window opens.
+  r = run_farfield("view " + quoted(dir.file("one.ffscene")) + " --screenshot " + quoted(dir.file("s.gif")));
+  EXPECT_EQ(r.exit_status, 2);
+  EXPECT_NE(r.output.find(".png, .jpg or .jpeg"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("b")));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("s.gif")));
+}
+
 TEST(Cli, InfoRefusesBrokenScenes) {
   TempDir dir;
   ASSERT_TRUE(write_scene(test::make_box_row(3), dir.file("good.ffscene")));

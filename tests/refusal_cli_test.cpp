@@ -40,12 +40,12 @@ class RefusalGL : public ::testing::Test {
   static std::string file(const std::string& name) { return dir_->file(name); }
 
   // Runs a bench into a fresh folder that must not appear.
-  void expect_refused(const std::string& args, const std::string& words) {
+  void expect_refused(const std::string& args, const std::string& words, int status = 1) {
     const std::string out = file("out");
     std::filesystem::remove_all(out);
     auto r = run_farfield("bench -q --no-plot " + file("c.ffscene") + " --path " + file("p.json") +
                           " --out " + out + " " + args);
-    EXPECT_EQ(r.exit_status, 1) << args << "\n" << r.output;
+    EXPECT_EQ(r.exit_status, status) << args << "\n" << r.output;
     EXPECT_NE(r.output.find(words), std::string::npos) << args << "\n" << r.output;
     EXPECT_FALSE(std::filesystem::exists(out)) << args << ": wrote its folder";
     EXPECT_EQ(r.output.find("median_ms"), std::string::npos) << args << ": ran frames";
@@ -61,7 +61,8 @@ TEST_F(RefusalGL, BenchChecksEverythingBeforeTheFirstFrame) {
   expect_refused("-t stratified", "stratified draws from a bake");
   expect_refused("-t colorcube --set colorcube.depth=13", "colorcube.depth");
   expect_refused("-t colorcube --set colorcube.depth=6.7", "not a whole number");
-  expect_refused("-t brute,octree --set colourcube.depth=6", "unknown technique 'colourcube'");
+  expect_refused("-t brute,octree --set colourcube.depth=6", "unknown technique 'colourcube'", 2);
+  expect_refused("-t brute --set colorcube", "TECHNIQUE.KEY=VALUE", 2);
   expect_refused("-t brute,octree --set colorcube.depth=6",
                  "colorcube is not among the techniques run");
   expect_refused("-t octree --set octree.depht=3", "octree has no such setting");

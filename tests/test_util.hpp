@@ -35,7 +35,7 @@ Result<void> load_technique(Technique& technique, const Scene& scene, gpu::Devic
                             const Store* store = nullptr);
 // One frame's selection of the whole scene into `list`, cleared first.
 void select_view(Technique& technique, const View& view, DrawList& list, uint64_t frame = 0);
-// Settings from "NAME.KEY=VALUE" assignments, which must be well formed.
+// Settings from "TECHNIQUE.KEY=VALUE" assignments, which must be well formed.
 TechniqueSettings settings_of(std::initializer_list<const char*> assignments);
 
 struct CommandResult {

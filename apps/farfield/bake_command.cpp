@@ -21,20 +21,20 @@ void add_bake_command(CLI::App& root, std::vector<Command>& commands) {
       "bench and view load it with --store. A colorcube bake replaces the pack's "
       "colorcube bake; a stratified bake commits each viewcell as it goes: run it again "
       "with the same settings after an interruption and it continues (other settings "
-      "need a new pack). Settings: --set NAME.KEY=VALUE, listed by 'farfield techniques' "
+      "need a new pack). Settings: --set TECHNIQUE.KEY=VALUE, listed by 'farfield techniques' "
       "(docs/techniques/).");
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
   cmd->add_option("--technique,-t", s->technique, "The technique to bake: colorcube or stratified")
       ->required();
-  cmd->add_option("--set", s->settings, "Technique setting NAME.KEY=VALUE, repeatable");
+  cmd->add_option("--set", s->settings, "Technique setting TECHNIQUE.KEY=VALUE, repeatable");
   cmd->add_option("--out,-o", s->out, "The .ffpack to write (created if missing)")->required();
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
   commands.push_back({cmd, [s] {
                         TechniqueSettings settings;
                         for (const std::string& setting : s->settings)
-                          if (auto ok = settings.add(setting); !ok) return fail(ok.error().message);
+                          if (auto ok = settings.add(setting); !ok) return usage_error(ok.error().message);
                         if (auto d = find_technique(s->technique); !d)
-                          return fail(d.error().message);
+                          return usage_error(d.error().message);
                         auto scene = read_scene(s->scene);
                         if (!scene) return fail(scene.error().message);
                         Progress progress(s->quiet);

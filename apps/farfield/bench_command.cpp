@@ -35,7 +35,7 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--set", s->settings,
-                  "Technique setting NAME.KEY=VALUE, repeatable (e.g. colorcube.depth=6)");
+                  "Technique setting TECHNIQUE.KEY=VALUE, repeatable (e.g. colorcube.depth=6)");
   cmd->add_option("--width", s->bench.width, "Image width, pixels")->capture_default_str();
   cmd->add_option("--height", s->bench.height, "Image height, pixels")->capture_default_str();
   cmd->add_option("--hfov", s->bench.hfov_deg, "Horizontal field of view, degrees")
@@ -68,7 +68,7 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
                         s->bench.techniques = s->techniques;
                         for (const std::string& setting : s->settings)
                           if (auto ok = s->bench.settings.add(setting); !ok)
-                            return fail(ok.error().message);
+                            return usage_error(ok.error().message);
                         s->bench.plot = !s->no_plot;
                         auto path = read_camera_path(s->path);
                         if (!path) return fail(path.error().message);

@@ -4,9 +4,12 @@
 #pragma once
 
 #include <functional>
+#include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+
+#include "farfield/core/text.hpp"
 
 namespace farfield::cli {
 
@@ -25,7 +28,9 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands);
 void add_analyze_command(CLI::App& root, std::vector<Command>& commands);
 void add_techniques_command(CLI::App& root, std::vector<Command>& commands);
 
-// Prints "farfield: <message>" on stderr and returns 1.
+// Print "farfield: <message>" on stderr and return the exit status: 1 for what failed on
+// the input or the file system, 2 for a command line that is wrong in itself.
 int fail(const std::string& message);
+int usage_error(const std::string& message);
 
 }  // namespace farfield::cli

@@ -19,8 +19,9 @@ int write_and_report(const Scene& scene, const std::string& out,
   if (auto ok = write_scene(scene, out); !ok) return fail(ok.error().message);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("wrote %s: %llu triangles, %zu objects, %.1f x %.1f m, in %.2f s\n", out.c_str(),
-              static_cast<unsigned long long>(scene.triangle_count()), scene.objects.size(),
+  std::printf("wrote %s: %s, %s, %.1f x %.1f m, in %.2f s\n", out.c_str(),
+              counted(scene.triangle_count(), "triangle").c_str(),
+              counted(scene.objects.size(), "object").c_str(),
               scene.bounds.size().x, scene.bounds.size().z, seconds);
   return 0;
 }
@@ -54,7 +55,8 @@ void add_city(CLI::App& generate, std::vector<Command>& commands) {
   cmd->add_option("--rows", c.rows, "Maximum rows of buildings per block")->capture_default_str();
   cmd->add_option("--columns", c.columns, "Maximum columns of buildings per block")
       ->capture_default_str();
-  s->blocks_option = cmd->add_option("--blocks", s->blocks, "Blocks in each dimension (sets --blocks-x and --blocks-z)");
+  s->blocks_option = cmd->add_option("--blocks", s->blocks, "Blocks in each dimension (sets --blocks-x and --blocks-z)")
+                        ->check(CLI::Range(1u, 100000u));
   cmd->add_option("--blocks-x", c.blocks_x, "Blocks along X")->capture_default_str();
   cmd->add_option("--blocks-z", c.blocks_z, "Blocks along Z")->capture_default_str();
   cmd->add_option("--street-width", c.street_width, "Street width, m")->capture_default_str();

@@ -29,10 +29,10 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
                         if (!scene) return fail(scene.error().message);
                         if (auto ok = write_scene(*scene, s->out); !ok)
                           return fail(ok.error().message);
-                        std::printf("wrote %s: %llu triangles, %zu objects from %zu file(s) in %.2f s\n",
-                                    s->out.c_str(),
-                                    static_cast<unsigned long long>(scene->triangle_count()),
-                                    scene->objects.size(), s->files.size(),
+                        std::printf("wrote %s: %s, %s from %s in %.2f s\n", s->out.c_str(),
+                                    counted(scene->triangle_count(), "triangle").c_str(),
+                                    counted(scene->objects.size(), "object").c_str(),
+                                    counted(s->files.size(), "file").c_str(),
                                     std::chrono::duration<double>(
                                         std::chrono::steady_clock::now() - start)
                                         .count());

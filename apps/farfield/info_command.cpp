@@ -2,9 +2,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <map>
 
 #include "commands.hpp"
+#include "farfield/core/file_reading.hpp"
 #include "farfield/scene/scene_file.hpp"
 #include "farfield/scene/scene_summary.hpp"
 #include "farfield/store/store.hpp"
@@ -14,6 +16,13 @@
 namespace farfield::cli {
 
 namespace {
+
+bool is_sqlite_file(const std::string& path) {
+  auto file = ReadableFile::open(path);
+  char magic[16] = {};
+  return file && file->size() >= sizeof(magic) && file->read_at(magic, sizeof(magic), 0) &&
+         std::memcmp(magic, "SQLite format 3", sizeof(magic)) == 0;
+}
 
 // A pack: its blobs grouped by technique (the name before the first '/') and its metadata,
 // which holds each bake's figures (e.g. colorcube/table1: paper 002's Table 1).
@@ -67,7 +76,8 @@ void add_info_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_option("file", *path, "A .ffscene or .ffpack file")->required();
   commands.push_back(
       {cmd, [path] {
-         if (!is_scene_file(*path) && path->ends_with(".ffpack")) return describe_pack(*path);
+         if (!is_scene_file(*path) && (path->ends_with(".ffpack") || is_sqlite_file(*path)))
+           return describe_pack(*path);
          const auto start = std::chrono::steady_clock::now();
          SceneFileInfo file;
          auto scene = read_scene(*path, &file);

@@ -12,6 +12,34 @@ int fail(const std::string& message) {
   return 1;
 }
 
+int usage_error(const std::string& message) {
+  std::fprintf(stderr, "farfield: %s\n", message.c_str());
+  return 2;
+}
+
+namespace {
+
+// The first word that is not an option: the subcommand, if the user named one.
+std::string first_word(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (argv[i][0] != '-') return argv[i];
+  return "";
+}
+
+const CLI::App* named_command(const CLI::App& app, const std::string& word) {
+  for (const CLI::App* sub : app.get_subcommands({}))
+    if (sub->check_name(word)) return sub;
+  return nullptr;
+}
+
+std::string command_names(const CLI::App& app) {
+  std::string names;
+  for (const CLI::App* sub : app.get_subcommands({})) names += (names.empty() ? "" : ", ") + sub->get_name();
+  return names;
+}
+
+}  // namespace
+
 }  // namespace farfield::cli
 
 int main(int argc, char** argv) {
@@ -33,6 +61,12 @@ int main(int argc, char** argv) {
   add_analyze_command(app, commands);
   add_techniques_command(app, commands);
 
+  // CLI11 would say only "A subcommand is required".
+  const std::string word = first_word(argc, argv);
+  const CLI::App* command = named_command(app, word);
+  if (!word.empty() && !command)
+    return usage_error("unknown command '" + word + "' (commands: " + command_names(app) +
+                       "; farfield --help)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -42,9 +76,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);  // prints the message
-    std::fprintf(stderr, "Run 'farfield --help' (or 'farfield COMMAND --help') for usage.\n");
-    return 2;
+    const std::string help = command ? "farfield " + command->get_name() + " --help" : "farfield --help";
+    return usage_error(std::string(e.what()) + " (" + help + ")");
   }
   try {
     for (const Command& command : commands) {

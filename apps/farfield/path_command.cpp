@@ -51,8 +51,8 @@ void add_path_command(CLI::App& root, std::vector<Command>& commands) {
                         for (size_t i = 1; i < path->frames.size(); ++i)
                           length += glm::distance(path->frames[i - 1].position,
                                                   path->frames[i].position);
-                        std::printf("wrote %s: %s path, %zu frames, %.1f m\n", s->out.c_str(),
-                                    path->kind.c_str(), path->frames.size(), length);
+                        std::printf("wrote %s: %s path, %s, %.1f m\n", s->out.c_str(),
+                                    path->kind.c_str(), counted(path->frames.size(), "frame").c_str(), length);
                         return 0;
                       }});
 }

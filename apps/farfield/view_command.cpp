@@ -12,6 +12,7 @@
 #include <backends/imgui_impl_opengl3.h>
 
 #include "commands.hpp"
+#include "farfield/core/image.hpp"
 #include "farfield/core/camera_path.hpp"
 #include "farfield/core/navigation.hpp"
 #include "farfield/gpu/renderer.hpp"
@@ -81,13 +82,17 @@ int run_viewer(const ViewSettings& s) {
   }
   TechniqueSettings settings;
   for (const std::string& setting : s.settings)
-    if (auto ok = settings.add(setting); !ok) return fail(ok.error().message);
+    if (auto ok = settings.add(setting); !ok) return usage_error(ok.error().message);
   // Everything asked is checked before the window opens: the technique at start (its bake
-  // included), every setting, and the file --record writes.
+  // included), every setting, and the files --record and --screenshot write.
   if (auto plan = plan_run({s.technique}, settings, store ? &*store : nullptr, *scene, true); !plan)
     return fail(plan.error().message);
   if (!s.record.empty())
     if (auto ok = check_writable_file(s.record); !ok) return fail(ok.error().message);
+  if (!s.screenshot.empty()) {
+    if (auto ok = check_image_name(s.screenshot); !ok) return usage_error(ok.error().message);
+    if (auto ok = check_writable_file(s.screenshot); !ok) return fail(ok.error().message);
+  }
   // Techniques are made for every name (so bad settings fail now) but loaded when first shown:
   // some build their structures at load.
   const auto descriptors = technique_descriptors();
@@ -233,12 +238,12 @@ int run_viewer(const ViewSettings& s) {
 
     ++frame;
     if (!s.screenshot.empty() && frame >= std::max(s.frames, 1)) {
-      if (auto ok = write_png((*renderer)->capture(), s.screenshot); !ok) {
+      if (auto ok = write_image((*renderer)->capture(), s.screenshot); !ok) {
         exit_status = fail(ok.error().message);
       } else {
-        std::printf("wrote %s after %d frames (%s, %.1f ms, %llu triangles)\n",
-                    s.screenshot.c_str(), frame, std::string(techniques[current]->name()).c_str(),
-                    smoothed_ms, (unsigned long long)stats.triangles);
+        std::printf("wrote %s after %s (%s, %.1f ms, %s)\n", s.screenshot.c_str(),
+                    counted(frame, "frame").c_str(), std::string(techniques[current]->name()).c_str(),
+                    smoothed_ms, counted(stats.triangles, "triangle").c_str());
       }
       w.close();
     } else if (s.screenshot.empty() && s.frames > 0 && frame >= s.frames) {
@@ -251,7 +256,7 @@ int run_viewer(const ViewSettings& s) {
   ImGui::DestroyContext();
   if (!s.record.empty() && exit_status == 0) {
     if (auto ok = write_camera_path(recorded, s.record); !ok) return fail(ok.error().message);
-    std::printf("recorded %zu frames into %s\n", recorded.frames.size(), s.record.c_str());
+    std::printf("recorded %s into %s\n", counted(recorded.frames.size(), "frame").c_str(), s.record.c_str());
   }
   return exit_status;
 }
@@ -270,7 +275,7 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_option("--store", s->store, "A .ffpack from 'farfield bake' to load techniques from");
   cmd->add_option("--technique,-t", s->technique, "Technique at start")->capture_default_str();
   cmd->add_option("--set", s->settings,
-                  "Technique setting NAME.KEY=VALUE, repeatable (e.g. colorcube.depth=6)");
+                  "Technique setting TECHNIQUE.KEY=VALUE, repeatable (e.g. colorcube.depth=6)");
   cmd->add_option("--width", s->width, "Window width, pixels")
       ->capture_default_str()
       ->check(CLI::Range(64, 16384));

@@ -1,7 +1,9 @@
 #include "farfield/core/image.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -9,6 +11,7 @@
 
 #include "farfield/core/assert.hpp"
 #include "farfield/core/atomic_file.hpp"
+#include "farfield/core/codec.hpp"
 
 namespace farfield {
 
@@ -68,6 +71,31 @@ Result<Image> decode_png(std::span<const std::byte> bytes, uint64_t max_pixels) 
 
 Result<void> write_png(const Image& image, const std::string& path) {
   auto bytes = encode_png(image);
+  if (!bytes) return make_error(path, ": ", bytes.error().message);
+  return write_file_atomically(
+      path, std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()));
+}
+
+namespace {
+
+std::string lowercase_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+}  // namespace
+
+Result<void> check_image_name(const std::string& path) {
+  const std::string ext = lowercase_extension(path);
+  if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") return {};
+  return make_error(path, ": an image file must end in .png, .jpg or .jpeg");
+}
+
+Result<void> write_image(const Image& image, const std::string& path) {
+  if (auto ok = check_image_name(path); !ok) return ok;
+  if (lowercase_extension(path) == ".png") return write_png(image, path);
+  auto bytes = encode_jpeg(image, 95);
   if (!bytes) return make_error(path, ": ", bytes.error().message);
   return write_file_atomically(
       path, std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()));

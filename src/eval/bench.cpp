@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "bench_report.hpp"
+#include "farfield/core/text.hpp"
 #include "farfield/core/atomic_file.hpp"
 #include "farfield/eval/frame_loop.hpp"
 #include "farfield/eval/image_metrics.hpp"
@@ -53,7 +54,7 @@ Result<void> check_options(const BenchOptions& o, const CameraPath& path) {
     return make_error("--width and --height must be within 16..16384 (got ",
                       std::to_string(o.width), "x", std::to_string(o.height), ")");
   if (!(o.hfov_deg > 1.0f && o.hfov_deg < 179.0f))
-    return make_error("--hfov must be within (1, 179) degrees (got ", std::to_string(o.hfov_deg),
+    return make_error("--hfov must be within (1, 179) degrees (got ", number_text(o.hfov_deg),
                       ")");
   if (path.frames.empty()) return make_error("the camera path has no frames");
   if (o.techniques.empty()) return make_error("--technique names no technique");
@@ -81,6 +82,22 @@ std::string frame_file(const std::string& dir, const std::string& technique, uin
   char name[64];
   std::snprintf(name, sizeof(name), "_frame%04u%s.png", frame, suffix);
   return (std::filesystem::path(dir) / (technique + name)).string();
+}
+
+// Removes what an earlier bench wrote into `dir` (bench.json, the plot, NAME_frameNNNN*.png),
+// so that a reused folder holds this run's files only; other files are left alone.
+void remove_earlier_outputs(const std::string& dir) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const size_t at = name.rfind("_frame");
+    const bool frame_image = at != std::string::npos && name.ends_with(".png") &&
+                             name.size() >= at + 10 &&
+                             std::all_of(name.begin() + at + 6, name.begin() + at + 10,
+                                         [](char c) { return c >= '0' && c <= '9'; });
+    if (entry.is_regular_file(ec) && (frame_image || name == "bench.json" || name == "frame_times.png"))
+      std::filesystem::remove(entry.path(), ec);
+  }
 }
 
 // One technique (or the raw bound, technique == null) in a run.
@@ -327,6 +344,7 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
   auto plan = plan_run(techniques, options.settings, store ? &*store : nullptr, scene);
   if (!plan) return plan.error();
   if (auto ok = check_writable_folder(options.out_dir); !ok) return ok.error();
+  remove_earlier_outputs(options.out_dir);
 
   auto context = gpu::create_headless_context();
   if (!context) return context.error();

@@ -1,5 +1,7 @@
 #include "farfield/scene/city_generator.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "farfield/core/text.hpp"
 #include "farfield/core/assert.hpp"
 #include "mesh_primitives.hpp"
 #include "random.hpp"
@@ -476,17 +479,12 @@ void CityWriter::segment(const glm::vec2& c, float hx, float hz, int sides, floa
 
 namespace {
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
 
 Result<void> check_size(const char* option, double v, double most) {
   if (!std::isfinite(v) || v <= 0.0)
-    return make_error(option, " must be > 0 (got ", number(v), ")");
+    return make_error(option, " must be > 0 (got ", number_text(v), ")");
   if (v > most)
-    return make_error(option, " must be at most ", number(most), " (got ", number(v), ")");
+    return make_error(option, " must be at most ", number_text(most), " (got ", number_text(v), ")");
   return {};
 }
 
@@ -500,7 +498,7 @@ Result<void> check_count(const char* option, uint64_t v, uint64_t most) {
 
 Result<void> check_fraction(const char* option, double v) {
   if (!(v >= 0.0 && v <= 1.0))  // also rejects NaN
-    return make_error(option, " must be in [0, 1] (got ", number(v), ")");
+    return make_error(option, " must be in [0, 1] (got ", number_text(v), ")");
   return {};
 }
 
@@ -539,10 +537,10 @@ Result<void> validate_city_options(const CityOptions& o) {
   }
   const double half_block = 0.5 * std::min(o.block_length, o.block_width);
   if (o.curb_width >= half_block)
-    return make_error("--curb-width must be less than half the block (", number(half_block),
-                      " m) (got ", number(o.curb_width), ")");
+    return make_error("--curb-width must be less than half the block (", number_text(half_block),
+                      " m) (got ", number_text(o.curb_width), ")");
   if (o.tree_distance < 1.0)
-    return make_error("--tree-distance must be at least 1 m (got ", number(o.tree_distance), ")");
+    return make_error("--tree-distance must be at least 1 m (got ", number_text(o.tree_distance), ")");
   if (o.target_triangles > kMostTargetTriangles)
     return make_error("--target-triangles must be at most ", std::to_string(kMostTargetTriangles),
                       " (got ", std::to_string(o.target_triangles), ")");
@@ -604,6 +602,16 @@ Result<Scene> generate_city(const CityOptions& options, Progress& progress) {
   }
   if (!total.fits()) return too_large(total);
   scratch = Scene{};
+  // Held whole in memory until it is written (out-of-core generation is to come): refuse
+  // what this machine cannot hold rather than fail after the work.
+  const uint64_t bytes = total.objects * sizeof(Object) + total.vertices * sizeof(Vertex) +
+                         total.triangles * 3 * sizeof(uint32_t) + total.name_bytes;
+  const uint64_t memory = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE));
+  if (bytes > memory)
+    return make_error("the city would have ", std::to_string(total.triangles), " triangles and need ",
+                      number_text(double(bytes) / 1e9), " GB of memory, more than this machine's ",
+                      number_text(double(memory) / 1e9),
+                      " GB; use fewer --blocks-x/--blocks-z or a lower --target-triangles");
 
   // Pass 2: write it.
   Scene scene;

@@ -3,14 +3,16 @@
 #include <cmath>
 #include <string>
 
+#include "farfield/core/text.hpp"
+
 namespace farfield {
 
 Result<void> validate_field_options(const FieldOptions& o) {
   if (o.count == 0) return make_error("--count must be at least 1");
   if (!(std::isfinite(o.spacing) && o.spacing > 0.0))
     return make_error("--spacing must be a positive number of metres (got ",
-                      std::to_string(o.spacing), ")");
-  if (o.spacing > 1e7) return make_error("--spacing of ", std::to_string(o.spacing), " m is absurd");
+                      number_text(o.spacing), ")");
+  if (o.spacing > 1e7) return make_error("--spacing of ", number_text(o.spacing), " m is absurd");
   return {};
 }
 

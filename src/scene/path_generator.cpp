@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "farfield/core/text.hpp"
 #include "farfield/core/assert.hpp"
 #include "random.hpp"
 
@@ -39,11 +40,6 @@ double cross(dvec2 a, dvec2 b) {
   return a.x * b.y - a.y * b.x;
 }
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
 
 // ---- The street network. -------------------------------------------------------------------
 
@@ -441,10 +437,10 @@ Result<void> validate(const PathOptions& o) {
                       std::to_string(o.frames), ")");
   if (!(std::isfinite(o.speed) && o.speed >= 0.0))
     return make_error("--speed must be a finite number >= 0, in metres per frame (got ",
-                      number(o.speed), ")");
+                      number_text(o.speed), ")");
   if (!(std::isfinite(o.eye_height) && o.eye_height > 0.0))
     return make_error("--eye-height must be a finite number > 0, in metres (got ",
-                      number(o.eye_height), ")");
+                      number_text(o.eye_height), ")");
   return {};
 }
 

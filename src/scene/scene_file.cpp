@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <string_view>
 
 #include <xxhash.h>
 
@@ -63,16 +64,28 @@ uint64_t header_checksum(const Header& h) {
   return XXH3_64bits(&h, offsetof(Header, header_checksum));
 }
 
+// What a file that is not a .ffscene seems to be, from its first bytes, for the refusal.
+std::string seems_to_be(const Header& h, uint64_t file_size) {
+  const auto starts = [&](std::string_view prefix) {
+    return file_size >= prefix.size() && std::memcmp(&h, prefix.data(), prefix.size()) == 0;
+  };
+  const char first = file_size > 0 ? reinterpret_cast<const char*>(&h)[0] : 0;
+  if (starts("SQLite format 3")) return "it is an SQLite file: a .ffpack store?";
+  if (starts("glTF")) return "it is a glTF binary: import it first (farfield import)";
+  if (first == '{' || first == '[') return "it is JSON: a camera path, or a glTF to import?";
+  return "it does not start with the .ffscene magic";
+}
+
 // Checks the header alone: magic, version, checksum, section layout against the file size.
 Result<void> check_header(const Header& h, uint64_t file_size, const std::string& name) {
   if (file_size < sizeof(Header)) {
     if (file_size >= sizeof(kMagic) && std::memcmp(h.magic, kMagic, sizeof(kMagic)) == 0)
       return make_error(name, ": truncated .ffscene file (", std::to_string(file_size),
                         " bytes, shorter than its header)");
-    return make_error(name, ": not a .ffscene file (too short)");
+    return make_error(name, ": not a .ffscene file (", seems_to_be(h, file_size), ")");
   }
   if (std::memcmp(h.magic, kMagic, sizeof(kMagic)) != 0)
-    return make_error(name, ": not a .ffscene file (bad magic)");
+    return make_error(name, ": not a .ffscene file (", seems_to_be(h, file_size), ")");
   if (h.version != kSceneFileVersion)
     return make_error(name, ": unsupported .ffscene version ", std::to_string(h.version),
                       " (this build reads version ", std::to_string(kSceneFileVersion), ")");

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "farfield/core/text.hpp"
 #include "farfield/core/assert.hpp"
 #include "mesh_primitives.hpp"
 #include "random.hpp"
@@ -37,11 +38,6 @@ Rng stream(uint64_t seed, uint64_t which) {
   return Rng(splitmix64(state));
 }
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
 
 // ---- The L-system. -------------------------------------------------------------------------
 
@@ -288,8 +284,8 @@ void add_leaves(SceneBuilder& b, const LeafSite& site, const TreeOptions& o, flo
 
 Result<void> check_range(const char* option, double v, double lo, double hi, bool open_lo) {
   if (!(open_lo ? v > lo : v >= lo) || !(v <= hi))  // also rejects NaN
-    return make_error(option, " must be in ", open_lo ? "(" : "[", number(lo), ", ", number(hi),
-                      "] (got ", number(v), ")");
+    return make_error(option, " must be in ", open_lo ? "(" : "[", number_text(lo), ", ", number_text(hi),
+                      "] (got ", number_text(v), ")");
   return {};
 }
 

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "farfield/core/text.hpp"
 #include "farfield/core/assert.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
 
@@ -10,11 +11,6 @@ namespace farfield {
 
 namespace {
 
-std::string format_number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
 
 bool in_choices(std::string_view choices, std::string_view value) {
   for (size_t begin = 0; begin <= choices.size();) {
@@ -43,12 +39,12 @@ std::string describe_setting(const SettingSpec& s) {
       rule = s.type == SettingType::integer ? "whole number" : "number";
       const bool lo = std::isfinite(s.min), hi = std::isfinite(s.max);
       if (lo && hi) {
-        rule += std::string(" in ") + (s.min_open ? "(" : "[") + format_number(s.min) + ", " +
-                format_number(s.max) + (s.max_open ? ")" : "]");
+        rule += std::string(" in ") + (s.min_open ? "(" : "[") + number_text(s.min) + ", " +
+                number_text(s.max) + (s.max_open ? ")" : "]");
       } else if (lo) {
-        rule += std::string(s.min_open ? " > " : " >= ") + format_number(s.min);
+        rule += std::string(s.min_open ? " > " : " >= ") + number_text(s.min);
       } else if (hi) {
-        rule += std::string(s.max_open ? " < " : " <= ") + format_number(s.max);
+        rule += std::string(s.max_open ? " < " : " <= ") + number_text(s.max);
       }
       break;
     }

@@ -37,4 +37,9 @@ Result<Image> decode_png(std::span<const std::byte> png, uint64_t max_pixels = k
 Result<void> write_png(const Image& image, const std::string& path);
 Result<Image> read_png(const std::string& path);
 
+// An image file in the format its name ends with: .png, or .jpg / .jpeg (quality 95);
+// refused for any other name before anything is written (check_image_name says so first).
+Result<void> check_image_name(const std::string& path);
+Result<void> write_image(const Image& image, const std::string& path);
+
 }  // namespace farfield

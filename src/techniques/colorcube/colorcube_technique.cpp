@@ -351,9 +351,9 @@ std::string ColorcubeTechnique::describe() const {
   const CubeTreeStats& s = tree_.stats;
   char line[256];
   std::snprintf(line, sizeof(line),
-                "%u cells (%u leaves), %u levels, cluster %ux%ux%u, oversampling %ux%u, %llu cube "
+                "%u cells (%u leaves), depth %u (%u levels with the root), cluster %ux%ux%u, oversampling %ux%u, %llu cube "
                 "faces (%llu inner ones dropped), %llu leaf triangles, bake %.2f s + %.2f s",
-                s.cells, s.leaves, s.levels, s.cluster, s.cluster, s.cluster, s.oversampling,
+                s.cells, s.leaves, s.levels - 1, s.levels, s.cluster, s.cluster, s.cluster, s.oversampling,
                 s.oversampling, (unsigned long long)s.cube_faces,
                 (unsigned long long)s.inner_faces_dropped, (unsigned long long)s.geometry_triangles,
                 s.leaf_bake_s, s.hierarchy_s);

@@ -1,0 +1,15 @@
+// Numbers and counts in messages: "200", "0.5", "1 frame", "3 frames".
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace farfield {
+
+// Shortest usual form (printf's %g): 200 rather than 200.000000.
+std::string number_text(double v);
+
+// "1 frame", "3 frames" (an 's' for every count but one).
+std::string counted(uint64_t n, const std::string& noun);
+
+}  // namespace farfield
