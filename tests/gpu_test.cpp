@@ -98,6 +98,33 @@ class RendererGL : public ::testing::Test {
   int saved_ = 0;
 };
 
+TEST(SceneChunks, WholeObjectsUpToTheLimitAndTooLargeOnesRefused) {
+  const Scene scene = test::make_box_row(5);
+  const uint64_t box = std::max<uint64_t>(scene.objects[0].vertex_count * sizeof(Vertex),
+                                          scene.objects[0].index_count * sizeof(uint32_t));
+  auto one = gpu::plan_scene_chunks(scene, uint64_t(1) << 30);
+  ASSERT_TRUE(one);
+  ASSERT_EQ(one->size(), 1u);
+  EXPECT_EQ((*one)[0].index_count, scene.indices.size());
+  EXPECT_EQ((*one)[0].vertex_count, scene.vertices.size());
+  auto pairs = gpu::plan_scene_chunks(scene, 2 * box);
+  ASSERT_TRUE(pairs);
+  ASSERT_EQ(pairs->size(), 3u);  // 2 + 2 + 1 boxes
+  uint32_t next = 0;
+  for (const gpu::SceneChunk& c : *pairs) {
+    EXPECT_EQ(c.first_index, next);
+    next += c.index_count;
+    EXPECT_LE(c.vertex_count * sizeof(Vertex), 2 * box);
+  }
+  EXPECT_EQ(next, scene.indices.size());
+  EXPECT_EQ(gpu::chunk_of(*pairs, 0), 0u);
+  EXPECT_EQ(gpu::chunk_of(*pairs, (*pairs)[1].first_index), 1u);
+  EXPECT_EQ(gpu::chunk_of(*pairs, (*pairs)[2].first_index + 3), 2u);
+  auto refused = gpu::plan_scene_chunks(scene, box - 1);
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find("object 0"), std::string::npos) << refused.error().message;
+}
+
 TEST(ContextGL, ReportsRendererAndVersion) {
   auto context = gpu::create_headless_context();
   if (!context) GTEST_SKIP() << context.error().message;
@@ -237,6 +264,29 @@ TEST_F(RendererGL, EverythingAtOnceCoversTheOpaqueList) {
   // Glass boxes too, drawn opaque.
   EXPECT_NE(at(all, pixel_of(front_, front_face(1))), sky());
   EXPECT_EQ(at(all, pixel_of(front_, front_face(1))), at(all, pixel_of(front_, front_face(2))));
+}
+
+TEST_F(RendererGL, ChunkedBuffersDrawTheSamePixels) {
+  // One box a chunk (24 vertices of 20 bytes): ranges that cross chunks are split, and every
+  // chunk's draws find their vertices through the base vertex.
+  auto chunked = gpu::Renderer::create(scene_, 500);
+  ASSERT_TRUE(chunked) << chunked.error().message;
+  DrawList crossing;  // boxes 0 to 2 in one range, box 3 on its own
+  crossing.opaque.push_back({0, scene_.objects[2].first_index + scene_.objects[2].index_count, 0});
+  crossing.transparent.push_back({scene_.objects[3].first_index, scene_.objects[3].index_count,
+                                  scene_.objects[3].material});
+  for (const DrawList& list : {list_of(scene_, {0, 1, 2, 3}), crossing}) {
+    const Image whole = render(front_, list);
+    const Image parts = render(front_, list, chunked->get());
+    EXPECT_EQ(whole.rgb, parts.rgb);
+  }
+  EXPECT_EQ((*chunked)->draw(front_, crossing).draw_calls, 4u);  // 3 pieces + 1
+  renderer_->draw_everything_at_once(front_);
+  const Image whole = renderer_->capture();
+  const gpu::FrameStats raw = (*chunked)->draw_everything_at_once(front_);
+  EXPECT_EQ(whole.rgb, (*chunked)->capture().rgb);
+  EXPECT_EQ(raw.draw_calls, 4u);
+  EXPECT_EQ(raw.triangles, scene_.triangle_count());
 }
 
 TEST_F(RendererGL, FrameStatsCountTheList) {

@@ -15,6 +15,7 @@
 
 #include "farfield/core/assert.hpp"
 #include "farfield/gpu/lighting.hpp"
+#include "farfield/gpu/scene_chunks.hpp"
 #include "gpu_resources.hpp"
 #include "shaders.hpp"
 
@@ -44,8 +45,20 @@ struct QuadVertex {
 }  // namespace
 
 struct Renderer::State {
-  GLuint vertex_buffer = 0, index_buffer = 0, material_buffer = 0, indirect_buffer = 0;
-  GLuint vao = 0, program = 0;
+  // The scene's geometry, chunked (scene_chunks.hpp); each chunk's VAO also reads the
+  // materials, one per instance.
+  struct Chunk {
+    SceneChunk range;
+    GLuint vertex_buffer = 0, index_buffer = 0, vao = 0;
+  };
+  std::vector<Chunk> chunks;
+  // Consecutive scene commands of one chunk, drawn by one multi-draw.
+  struct SceneBatch {
+    size_t chunk, first_command, count;
+  };
+  std::vector<SceneBatch> opaque_batches, transparent_batches;
+  GLuint material_buffer = 0, indirect_buffer = 0;
+  GLuint vao = 0, program = 0;  // vao: bound between draws, reads nothing
   GpuResources resources;
   GLuint proxy_program = 0, textured_program = 0;
   // A run of consecutive MeshDraws of one mesh and texture, drawn by one call: commands in
@@ -70,6 +83,7 @@ struct Renderer::State {
   int offscreen_width = 0, offscreen_height = 0;
   int frame_width = 0, frame_height = 0;  // of the last frame drawn, for capture()
   uint32_t index_count = 0;
+  std::vector<SceneChunk> chunk_ranges;  // chunks[i].range, for chunk_of
   uint32_t white_material = 0;        // after the scene's materials, for draw_everything_at_once
   size_t indirect_capacity = 0;       // in commands
   std::vector<DrawCommand> commands;  // staging, capacity kept between frames
@@ -77,9 +91,13 @@ struct Renderer::State {
   float clear_alpha = 1.0f;
 
   ~State() {
-    const GLuint buffers[] = {vertex_buffer, index_buffer, material_buffer, indirect_buffer,
-                              stream_buffer, quad_buffer,  line_buffer};
-    glDeleteBuffers(7, buffers);
+    for (const Chunk& c : chunks) {
+      const GLuint chunk_buffers[] = {c.vertex_buffer, c.index_buffer};
+      glDeleteBuffers(2, chunk_buffers);
+      glDeleteVertexArrays(1, &c.vao);
+    }
+    const GLuint buffers[] = {material_buffer, indirect_buffer, stream_buffer, quad_buffer, line_buffer};
+    glDeleteBuffers(5, buffers);
     const GLuint vaos[] = {vao, quad_vao, line_vao};
     glDeleteVertexArrays(3, vaos);
     glDeleteProgram(program);
@@ -90,6 +108,40 @@ struct Renderer::State {
     glDeleteFramebuffers(1, &framebuffer);
     const GLuint targets[] = {color_target, depth_target};
     glDeleteRenderbuffers(2, targets);
+  }
+
+  // Appends the commands of scene ranges, split where a range crosses chunks, and their
+  // batches: runs of one chunk, in the list's order (blending depends on it).
+  void add_scene_ranges(const std::vector<DrawRange>& ranges, std::vector<SceneBatch>& batches) {
+    batches.clear();
+    for (const DrawRange& r : ranges) {
+      FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
+                    uint64_t(r.first_index) + r.index_count <= index_count &&
+                    r.material < white_material,
+                "range [%u, +%u) material %u outside the scene's %u indices and %u materials",
+                r.first_index, r.index_count, r.material, index_count, white_material);
+      for (uint32_t at = r.first_index, end = r.first_index + r.index_count; at < end;) {
+        const size_t c = chunk_of(chunk_ranges, at);
+        const SceneChunk& chunk = chunks[c].range;
+        const uint32_t stop = std::min(end, chunk.first_index + chunk.index_count);
+        FF_ASSERT(at >= chunk.first_index && stop > at, "range [%u, %u) outside every chunk", at, end);
+        if (batches.empty() || batches.back().chunk != c)
+          batches.push_back({c, commands.size(), 0});
+        commands.push_back({stop - at, 1, at - chunk.first_index, -GLint(chunk.first_vertex), r.material});
+        batches.back().count++;
+        at = stop;
+      }
+    }
+  }
+
+  void draw_scene_batches(const std::vector<SceneBatch>& batches) {
+    for (const SceneBatch& b : batches) {
+      glBindVertexArray(chunks[b.chunk].vao);
+      glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                                  reinterpret_cast<const void*>(b.first_command * sizeof(DrawCommand)),
+                                  GLsizei(b.count), 0);
+    }
+    glBindVertexArray(vao);
   }
 
   void reserve_commands(size_t count) {
@@ -337,7 +389,7 @@ struct Renderer::State {
 Renderer::Renderer() : state_(std::make_unique<State>()) {}
 Renderer::~Renderer() = default;
 
-Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene) {
+Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t chunk_bytes) {
   FF_ASSERT(epoxy_gl_version() >= 45, "needs a current OpenGL 4.5 context (version %d)",
             epoxy_gl_version());
   FF_ASSERT(scene.indices.size() <= UINT32_MAX, "%zu indices", scene.indices.size());
@@ -348,29 +400,36 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene) {
   s.white_material = uint32_t(materials.size());
   materials.push_back(Material{glm::vec4(1.0f)});
   s.index_count = uint32_t(scene.indices.size());
-  if (auto made = make_buffer(s.vertex_buffer, "vertex buffer",
-                              scene.vertices.size() * sizeof(Vertex), scene.vertices.data(), 0);
-      !made)
-    return made.error();
-  if (auto made = make_buffer(s.index_buffer, "index buffer",
-                              scene.indices.size() * sizeof(uint32_t), scene.indices.data(), 0);
-      !made)
-    return made.error();
+  auto planned = plan_scene_chunks(scene, chunk_bytes);
+  if (!planned) return planned.error();
+  s.chunk_ranges = std::move(*planned);
   if (auto made = make_buffer(s.material_buffer, "material buffer",
                               materials.size() * sizeof(Material), materials.data(), 0);
       !made)
     return made.error();
-
+  for (const SceneChunk& range : s.chunk_ranges) {
+    State::Chunk& c = s.chunks.emplace_back();
+    c.range = range;
+    if (auto made = make_buffer(c.vertex_buffer, "vertex buffer", size_t(range.vertex_count) * sizeof(Vertex),
+                                scene.vertices.data() + range.first_vertex, 0);
+        !made)
+      return made.error();
+    if (auto made = make_buffer(c.index_buffer, "index buffer", size_t(range.index_count) * sizeof(uint32_t),
+                                scene.indices.data() + range.first_index, 0);
+        !made)
+      return made.error();
+    glCreateVertexArrays(1, &c.vao);
+    glVertexArrayVertexBuffer(c.vao, 0, c.vertex_buffer, 0, sizeof(Vertex));
+    // One material per instance; each draw command's baseInstance is its material index.
+    glVertexArrayVertexBuffer(c.vao, 1, s.material_buffer, 0, sizeof(Material));
+    glVertexArrayBindingDivisor(c.vao, 1, 1);
+    glVertexArrayElementBuffer(c.vao, c.index_buffer);
+    set_attribute(c.vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
+    set_attribute(c.vao, kNormalAttrib, 4, GL_INT_2_10_10_10_REV, GL_TRUE, offsetof(Vertex, normal));
+    set_attribute(c.vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(Vertex, color));
+    set_attribute(c.vao, kMaterialAttrib, 4, GL_FLOAT, GL_FALSE, 0, 1);  // per instance
+  }
   glCreateVertexArrays(1, &s.vao);
-  glVertexArrayVertexBuffer(s.vao, 0, s.vertex_buffer, 0, sizeof(Vertex));
-  // One material per instance; each draw command's baseInstance is its material index.
-  glVertexArrayVertexBuffer(s.vao, 1, s.material_buffer, 0, sizeof(Material));
-  glVertexArrayBindingDivisor(s.vao, 1, 1);
-  glVertexArrayElementBuffer(s.vao, s.index_buffer);
-  set_attribute(s.vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
-  set_attribute(s.vao, kNormalAttrib, 4, GL_INT_2_10_10_10_REV, GL_TRUE, offsetof(Vertex, normal));
-  set_attribute(s.vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(Vertex, color));
-  set_attribute(s.vao, kMaterialAttrib, 4, GL_FLOAT, GL_FALSE, 0, 1);  // per instance
 
   s.program = build_scene_program();
   const std::array<glm::vec3, 2> lights = light_directions();
@@ -396,17 +455,9 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
   State& s = *state_;
   for (const TextureUpload& u : list.uploads) s.resources.upload(u);
   s.commands.clear();
-  auto add = [&](const DrawRange& r) {
-    FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
-                  uint64_t(r.first_index) + r.index_count <= s.index_count &&
-                  r.material < s.white_material,
-              "range [%u, +%u) material %u outside the scene's %u indices and %u materials",
-              r.first_index, r.index_count, r.material, s.index_count, s.white_material);
-    s.commands.push_back({r.index_count, 1, r.first_index, 0, r.material});
-  };
-  for (const DrawRange& r : list.opaque) add(r);
-  for (const DrawRange& r : list.transparent) add(r);
-  const size_t opaque = list.opaque.size(), scene_commands = s.commands.size();
+  s.add_scene_ranges(list.opaque, s.opaque_batches);
+  s.add_scene_ranges(list.transparent, s.transparent_batches);
+  const size_t scene_commands = s.commands.size();
   s.plan_meshes(list);  // its commands follow the scene's
   s.reserve_commands(s.commands.size());
   if (!s.commands.empty())
@@ -415,22 +466,19 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
 
   s.begin_frame(view_projection, width, height);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, s.indirect_buffer);
-  if (opaque > 0)
-    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(opaque), 0);
+  s.draw_scene_batches(s.opaque_batches);
   uint64_t calls = scene_commands + s.draw_meshes(view_projection, list);
   // The backdrop behind everything opaque, under the transparent surfaces.
   s.draw_backdrop(view_projection, list);
   calls += list.backdrop.size();
-  if (scene_commands > opaque) {
+  if (!s.transparent_batches.empty()) {
     // Semi-transparent surfaces after the opaque ones, in the list's order, both sides,
     // tested against but not writing depth.
     glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     glDepthMask(GL_FALSE);
     glDisable(GL_CULL_FACE);
-    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                                reinterpret_cast<const void*>(opaque * sizeof(DrawCommand)),
-                                GLsizei(scene_commands - opaque), 0);
+    s.draw_scene_batches(s.transparent_batches);
     glDepthMask(GL_TRUE);
     glEnable(GL_CULL_FACE);
     glDisable(GL_BLEND);
@@ -469,10 +517,16 @@ void Renderer::finish() {
 FrameStats Renderer::draw_everything_at_once(const View& view) {
   State& s = *state_;
   s.begin_frame(view.view_projection(), view.width, view.height);
-  if (s.index_count > 0)
-    glDrawElementsInstancedBaseInstance(GL_TRIANGLES, GLsizei(s.index_count), GL_UNSIGNED_INT,
-                                        nullptr, 1, s.white_material);
-  return s.end_frame({0.0, s.index_count / 3u, 1});
+  for (const State::Chunk& c : s.chunks) {
+    glBindVertexArray(c.vao);
+    glDrawElementsInstancedBaseVertexBaseInstance(GL_TRIANGLES, GLsizei(c.range.index_count),
+                                                  GL_UNSIGNED_INT, nullptr, 1,
+                                                  -GLint(c.range.first_vertex), s.white_material);
+  }
+  glBindVertexArray(s.vao);
+  uint64_t triangles = 0;
+  for (const State::Chunk& c : s.chunks) triangles += c.range.index_count / 3;
+  return s.end_frame({0.0, triangles, std::max<uint64_t>(1, s.chunks.size())});
 }
 
 void Renderer::set_offscreen(int width, int height) {

@@ -9,7 +9,7 @@ namespace farfield {
 // Shortest usual form (printf's %g): 200 rather than 200.000000.
 std::string number_text(double v);
 
-// "1 frame", "3 frames" (an 's' for every count but one).
-std::string counted(uint64_t n, const std::string& noun);
+// "1 frame", "3 frames" (an 's' for every count but one, or the plural given).
+std::string counted(uint64_t n, const std::string& noun, const std::string& plural = "");
 
 }  // namespace farfield

@@ -1,5 +1,5 @@
-// Draws a Scene's DrawLists with OpenGL 4.5 core. The whole scene lives in two GPU buffers
-// (vertices, indices); a DrawList becomes multi-draw-indirect commands, opaque ranges first,
+// Draws a Scene's DrawLists with OpenGL 4.5 core. The whole scene lives in GPU buffers of at
+// most 1 GiB each (scene_chunks.hpp); a DrawList becomes multi-draw-indirect commands, opaque ranges first,
 // then transparent ranges blended without depth writes. Technique meshes and textures are
 // made through the Device interface and named by handle in the lists. Shading: paper 000, Sec. 5.3,
 // two directional lights opposite each other 14 degrees above the horizon, plus ambient; colour =
@@ -20,6 +20,7 @@
 #include "farfield/scene/scene.hpp"
 #include "farfield/gpu/device.hpp"
 #include "farfield/gpu/draw_list.hpp"
+#include "farfield/gpu/scene_chunks.hpp"
 
 namespace farfield::gpu {
 
@@ -33,8 +34,10 @@ struct FrameStats {
 
 class Renderer final : public Device {
  public:
-  // Uploads the scene; fails (with the byte count) when the GPU cannot hold it.
-  static Result<std::unique_ptr<Renderer>> create(const Scene& scene);
+  // Uploads the scene in chunks of at most `chunk_bytes` a buffer; fails (with the byte
+  // count) when the GPU cannot hold it.
+  static Result<std::unique_ptr<Renderer>> create(const Scene& scene,
+                                                  uint64_t chunk_bytes = kSceneChunkBytes);
   ~Renderer() override;
 
   Result<MeshHandle> create_mesh(std::span<const ProxyVertex> vertices,
