@@ -4,7 +4,9 @@ JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -G Ninja -DCMAKE_BUILD_TYPE=Release
 OUT ?= out
 
-.PHONY: deps build demo test bench fuzz clean
+PREFIX ?= /usr/local
+
+.PHONY: deps build install demo test bench fuzz clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -12,6 +14,10 @@ deps:
 build: deps
 	@cmake -S . -B $(BUILD) $(CMAKE_FLAGS) > /dev/null
 	@cmake --build $(BUILD) -j $(JOBS)
+
+# farfield on the PATH: $(PREFIX)/bin/farfield (one self-contained binary).
+install: build
+	@cmake --install $(BUILD) --prefix $(PREFIX)
 
 # The main job on the built-in default scene: the default city, its street path, the bakes of
 # the colour-cube octree and of stratified rendering (the viewcells the path needs) into one

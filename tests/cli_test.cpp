@@ -67,6 +67,10 @@ TEST(Cli, MessagesNameTheProblemOnce) {
   r = run_farfield("bench " + quoted(dir.file("one.ffscene")) + " --path " + quoted(dir.file("p.json")) +
                    " --hfov 200 --out " + quoted(dir.file("b")));
   EXPECT_NE(r.output.find("(got 200)"), std::string::npos) << r.output;
+  r = run_farfield("bench " + quoted(dir.file("one.ffscene")) + " --path " + quoted(dir.file("p.json")) +
+                   " --frames 5 --out " + quoted(dir.file("b")));
+  EXPECT_EQ(r.exit_status, 1);
+  EXPECT_NE(r.output.find("has only 1 frame"), std::string::npos) << r.output;
   // A file of another kind is called what it seems to be.
   r = run_farfield("info " + quoted(dir.file("p.json")));
   EXPECT_EQ(r.exit_status, 1);

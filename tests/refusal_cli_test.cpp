@@ -4,6 +4,8 @@
 
 #include <sqlite3.h>
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 
 #include "farfield/gpu/context.hpp"
@@ -78,9 +80,11 @@ TEST_F(RefusalGL, BenchChecksEverythingBeforeTheFirstFrame) {
   auto fine = run_farfield("bench -q --no-plot " + file("c.ffscene") + " --path " + file("p.json") +
                            " --store " + file("c.ffpack") +
                            " -t composite --set stratified.style=near"
-                           " --set stratified.alpha=2 --samples 0 --reference-every 0 --out " +
+                           " --set stratified.alpha=2 --samples 0 --reference-every 0 --frames 4 --out " +
                            out);
   EXPECT_EQ(fine.exit_status, 0) << fine.output;
+  const auto report = nlohmann::json::parse(test::read_file(out + "/bench.json"));
+  EXPECT_EQ(report["techniques"][0]["frames"].size(), 4u);  // --frames 4 of the path's 12
 }
 
 TEST_F(RefusalGL, PacksOfAnotherSceneOrFormatAreRefused) {

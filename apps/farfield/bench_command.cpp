@@ -16,6 +16,7 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
     std::vector<std::string> techniques{"brute", "octree"};
     std::vector<std::string> settings;
     bool quiet = false, no_plot = false;
+    size_t frames = 0;
   };
   auto s = std::make_shared<Settings>();
   const std::string technique_help =
@@ -36,6 +37,9 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
       ->capture_default_str();
   cmd->add_option("--set", s->settings,
                   "Technique setting TECHNIQUE.KEY=VALUE, repeatable (e.g. colorcube.depth=6)");
+  cmd->add_option("--frames", s->frames, "Play only the path's first N frames (0: all)")
+      ->check(CLI::Range(size_t(0), size_t(1) << 24))
+      ->capture_default_str();
   cmd->add_option("--width", s->bench.width, "Image width, pixels")->capture_default_str();
   cmd->add_option("--height", s->bench.height, "Image height, pixels")->capture_default_str();
   cmd->add_option("--hfov", s->bench.hfov_deg, "Horizontal field of view, degrees")
@@ -72,6 +76,10 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
                         s->bench.plot = !s->no_plot;
                         auto path = read_camera_path(s->path);
                         if (!path) return fail(path.error().message);
+                        if (s->frames > path->frames.size())
+                          return fail("--frames " + std::to_string(s->frames) + ": " + s->path +
+                                      " has only " + counted(path->frames.size(), "frame"));
+                        if (s->frames > 0) path->frames.resize(s->frames);
                         auto scene = read_scene(s->bench.scene_file);
                         if (!scene) return fail(scene.error().message);
                         Progress progress(s->quiet);

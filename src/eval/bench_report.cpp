@@ -111,7 +111,7 @@ std::string format_bench_summary(const BenchReport& report) {
   char line[320];
   std::snprintf(line, sizeof(line), "renderer: %s%s\n%-13s %9s %9s %9s %8s %12s %8s %10s %12s %9s",
                 report.renderer.c_str(), report.interleaved ? " (techniques interleaved)" : "",
-                "technique", "median_ms", "p99_ms", "max_ms", "x_brute", "triangles", "draws",
+                "technique", "median_ms", "p99_ms", "max_ms", "x_brute", "mean_tris", "mean_draws",
                 "psnr_db", "identical", "fallback");
   out += line;
   if (report.pipelined) {
@@ -119,6 +119,7 @@ std::string format_bench_summary(const BenchReport& report) {
     out += line;
   }
   out += "\n";
+  bool fell_back = false;
   for (const TechniqueRecord& t : report.techniques) {
     const BenchSummary s = summarize(t, brute, report.width, report.height);
     char psnr[32] = "-";
@@ -127,11 +128,16 @@ std::string format_bench_summary(const BenchReport& report) {
     char ratio[32] = "-";
     if (&t != brute && brute) std::snprintf(ratio, sizeof(ratio), "%.3f", s.median_ratio_to_brute);
     char fallback[32];
+    const bool most = 2 * t.fallback_frames > t.frames.size();
+    fell_back |= most;
     std::snprintf(fallback, sizeof(fallback), "%llu%s", (unsigned long long)t.fallback_frames,
-                  2 * t.fallback_frames > t.frames.size() ? " (most)" : "");
-    std::snprintf(line, sizeof(line), "%-13s %9.2f %9.2f %9.2f %8s %12.0f %8.1f %10s %7u/%-4u %9s",
+                  most ? " (most)" : "");
+    char identical[32] = "reference";
+    if (&t != brute)
+      std::snprintf(identical, sizeof(identical), "%u/%u", s.identical_frames, s.compared_frames);
+    std::snprintf(line, sizeof(line), "%-13s %9.2f %9.2f %9.2f %8s %12.0f %10.1f %10s %12s %9s",
                   t.name.c_str(), s.median_ms, s.p99_ms, s.max_ms, ratio, s.mean_triangles,
-                  s.mean_draw_calls, psnr, s.identical_frames, s.compared_frames, fallback);
+                  s.mean_draw_calls, psnr, identical, fallback);
     out += line;
     if (report.pipelined && s.pipelined_median_ms > 0) {
       std::snprintf(line, sizeof(line), " %12.2f %12.2f", s.pipelined_median_ms,
@@ -140,6 +146,12 @@ std::string format_bench_summary(const BenchReport& report) {
     }
     out += "\n";
   }
+  out += "psnr_db: mean over the compared frames that differ from brute's; identical: compared "
+         "frames equal to brute's, pixel for pixel; fallback: frames a technique drew as plain "
+         "geometry (outside its bake; docs/bench.md)\n";
+  if (fell_back)
+    out += "(most): the technique fell back on most frames, so its figures are mostly plain "
+           "geometry's, not the technique's\n";
   return out;
 }
 
