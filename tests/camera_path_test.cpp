@@ -323,8 +323,8 @@ TEST(PathGenerator, FlyPathLoopsAboveTheRoofsLookingDown) {
     const CameraPose& p = path.frames[k];
     EXPECT_GT(p.position.y, city.bounds.max.y + 20.0f);
     EXPECT_TRUE(city.bounds.contains({p.position.x, city.bounds.min.y, p.position.z}));
-    EXPECT_LE(p.pitch_deg, -20.0f);
-    EXPECT_GE(p.pitch_deg, -30.0f);
+    EXPECT_LE(p.pitch_deg, -15.0f);
+    EXPECT_GE(p.pitch_deg, -70.0f);
     const CameraPose& next = path.frames[(k + 1) % path.frames.size()];  // a closed loop
     const float d = glm::distance(p.position, next.position);
     if (k == 0) step = d;
@@ -343,6 +343,37 @@ TEST(PathGenerator, OrbitLooksAtTheCentre) {
     EXPECT_GT(glm::distance(glm::vec2(p.position.x, p.position.z), glm::vec2(centre.x, centre.z)),
               0.5f * city.bounds.size().x);
     EXPECT_GT(p.position.y, centre.y);
+  }
+}
+
+// Whether `p` lands inside the protocol's view (1024x768, 90 degrees) from `pose`.
+bool in_view(const CameraPose& pose, const glm::vec3& p) {
+  View view;
+  view.pose = pose;
+  const glm::vec4 clip = view.view_projection() * glm::vec4(p, 1.0f);
+  return clip.w > 0 && std::abs(clip.x) <= clip.w && std::abs(clip.y) <= clip.w && clip.z <= clip.w;
+}
+
+TEST(PathGenerator, OrbitAndFlyFrameModelsOfAnySize) {
+  // A 2 m model, a 7 m one and a 700 m one: an orbit keeps every corner of the
+  // bounds in view, a fly path keeps the middle in view and stays above the top.
+  for (const float scale : {0.3f, 1.0f, 100.0f}) {
+    Scene scene = test::make_box_row(4);  // 7 x 1 x 1
+    for (Vertex& v : scene.vertices) v.position *= scale;
+    for (Object& o : scene.objects) o.bounds.min *= scale, o.bounds.max *= scale;
+    scene.bounds.min *= scale;
+    scene.bounds.max *= scale;
+    for (const CameraPose& p : generate(scene, kind("orbit", 40)).frames)
+      for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 q(corner & 1 ? scene.bounds.max.x : scene.bounds.min.x,
+                          corner & 2 ? scene.bounds.max.y : scene.bounds.min.y,
+                          corner & 4 ? scene.bounds.max.z : scene.bounds.min.z);
+        EXPECT_TRUE(in_view(p, q)) << "scale " << scale << " corner " << corner;
+      }
+    for (const CameraPose& p : generate(scene, kind("fly", 40)).frames) {
+      EXPECT_TRUE(in_view(p, scene.bounds.center())) << "scale " << scale;
+      EXPECT_GT(p.position.y, scene.bounds.max.y);
+    }
   }
 }
 

@@ -117,6 +117,28 @@ void expect_refused(const std::string& path, const std::string& what) {
   EXPECT_TRUE(same_scene(scene, before)) << path;
 }
 
+TEST(Import, UpAxisAndScaleTurnAndSizeTheModel) {
+  // A triangle standing 1000 units up along +Z: in a Z-up file in millimetres, 1 m up.
+  TempDir dir;
+  test::write_file(dir.file("z.obj"), "v 0 0 0\nv 1000 0 0\nv 0 0 1000\nf 1 2 3\n");
+  Scene as_is, turned;
+  ASSERT_TRUE(import_model(dir.file("z.obj"), as_is).ok());
+  ASSERT_TRUE(import_model(dir.file("z.obj"), turned, {.up = 'z', .scale = 0.001}).ok());
+  EXPECT_FLOAT_EQ(as_is.bounds.size().z, 1000.0f);
+  EXPECT_FLOAT_EQ(as_is.bounds.size().y, 0.0f);
+  EXPECT_NEAR(turned.bounds.max.y, 1.0f, 1e-6);  // up is +Y, in metres
+  EXPECT_NEAR(turned.bounds.size().x, 1.0f, 1e-6);
+  EXPECT_NEAR(turned.bounds.size().z, 0.0f, 1e-6);
+  // The normal turns with it: perpendicular to the triangle, which now lies in the XY plane.
+  EXPECT_NEAR(std::abs(unpack_normal(turned.vertices[0].normal).z), 1.0f, 1e-2);
+  for (const ImportOptions& bad : {ImportOptions{.up = 'x'}, ImportOptions{.scale = 0.0},
+                                   ImportOptions{.scale = -1.0}}) {
+    Scene scene;
+    EXPECT_FALSE(import_model(dir.file("z.obj"), scene, bad).ok());
+    EXPECT_TRUE(scene.objects.empty());
+  }
+}
+
 TEST(Import, ObjKeepsObjectNamesAndDiffuseColours) {
   TempDir dir;
   write_obj(dir);

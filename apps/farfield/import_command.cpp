@@ -12,6 +12,8 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
   struct Settings {
     std::vector<std::string> files;
     std::string out;
+    std::string up = "y";
+    ImportOptions options;
     bool quiet = false;
   };
   auto s = std::make_shared<Settings>();
@@ -20,11 +22,20 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
                 "assimp) into one .ffscene; node transforms applied, names and colours kept");
   cmd->add_option("files", s->files, "Model files")->required();
   cmd->add_option("--out,-o", s->out, "Output .ffscene file")->required();
+  cmd->add_option("--up", s->up, "The axis that points up in the files: y (glTF, OBJ, most) or z "
+                                 "(many CAD, IFC and scan exports); farfield scenes are +Y up")
+      ->check(CLI::IsMember({"y", "z"}))
+      ->capture_default_str();
+  cmd->add_option("--scale", s->options.scale,
+                  "Metres per file unit, e.g. 0.001 for a model in millimetres, 0.0254 for inches")
+      ->check(CLI::Range(1e-9, 1e6))
+      ->capture_default_str();
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
   commands.push_back({cmd, [s] {
                         const auto start = std::chrono::steady_clock::now();
                         Progress progress(s->quiet);
-                        auto scene = import_models(s->files, progress);
+                        s->options.up = s->up[0];
+                        auto scene = import_models(s->files, progress, s->options);
                         progress.finish();
                         if (!scene) return fail(scene.error().message);
                         if (auto ok = write_scene(*scene, s->out); !ok)

@@ -1,5 +1,6 @@
 // farfield view SCENE: a window to walk through a scene (paper 000, Sec. 5.1), switching
 // technique at run time, with frame time, triangles and draw calls on screen.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <optional>
@@ -17,6 +18,7 @@
 #include "farfield/core/navigation.hpp"
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/gpu/window.hpp"
+#include "farfield/scene/path_generator.hpp"
 #include "farfield/scene/scene_file.hpp"
 #include "farfield/eval/frame_loop.hpp"
 #include "farfield/eval/run_plan.hpp"
@@ -53,16 +55,32 @@ NavigationInput keys_to_input(const gpu::Window& w) {
 }
 
 // Without a path: at a corner of the scene, a third of its size up, looking at its centre.
-CameraPose overview_pose(const Scene& scene) {
-  const glm::vec3 size = scene.bounds.size(), centre = scene.bounds.center();
-  CameraPose p;
-  p.position = {scene.bounds.min.x - 0.1f * size.x,
-                scene.bounds.min.y + 0.35f * std::max(size.x, size.z),
-                scene.bounds.min.z - 0.1f * size.z};
-  const glm::vec3 d = centre - p.position;
-  p.yaw_deg = glm::degrees(std::atan2(d.z, d.x));
-  p.pitch_deg = glm::degrees(std::atan2(d.y, std::sqrt(d.x * d.x + d.z * d.z)));
-  return p;
+// Where the viewer opens: the first pose of --path; else the first pose of the path the
+// start technique's bake was made along (inside what it baked); else the first pose of an
+// orbit, which has the whole scene in sight.
+CameraPose start_pose(const Scene& scene, const CameraPath& path,
+                      const std::vector<PlannedTechnique>& plan) {
+  if (!path.frames.empty()) return path.frames.front();
+  for (const PlannedTechnique& t : plan) {
+    if (!t.bake) continue;
+    const auto baked_along = t.bake->settings.find("path");
+    if (baked_along == t.bake->settings.end() || baked_along->second.empty()) continue;
+    if (auto read = read_camera_path(baked_along->second); read && !read->frames.empty())
+      return read->frames.front();
+  }
+  auto orbit = generate_path(scene, {.kind = "orbit", .frames = 1});
+  return orbit && !orbit->frames.empty() ? orbit->frames.front() : CameraPose{};
+}
+
+// Walking speeds for the scene's size: a city at 15 m/s, a 1 m model at 0.1 m/s.
+NavigationSpeeds speeds_for(const Scene& scene) {
+  const glm::vec3 size = scene.bounds.size();
+  const float extent = std::max({size.x, size.y, size.z});
+  NavigationSpeeds speeds;
+  const float scale = std::clamp(0.1f * extent / speeds.move_m_per_s, 0.1f / speeds.move_m_per_s, 1.0f);
+  speeds.move_m_per_s *= scale;
+  speeds.climb_m_per_s *= scale;
+  return speeds;
 }
 
 int run_viewer(const ViewSettings& s) {
@@ -85,8 +103,8 @@ int run_viewer(const ViewSettings& s) {
     if (auto ok = settings.add(setting); !ok) return usage_error(ok.error().message);
   // Everything asked is checked before the window opens: the technique at start (its bake
   // included), every setting, and the files --record and --screenshot write.
-  if (auto plan = plan_run({s.technique}, settings, store ? &*store : nullptr, *scene, true); !plan)
-    return fail(plan.error().message);
+  auto plan = plan_run({s.technique}, settings, store ? &*store : nullptr, *scene, true);
+  if (!plan) return fail(plan.error().message);
   if (!s.record.empty())
     if (auto ok = check_writable_file(s.record); !ok) return fail(ok.error().message);
   if (!s.screenshot.empty()) {
@@ -134,7 +152,8 @@ int run_viewer(const ViewSettings& s) {
   ImGui_ImplOpenGL3_Init("#version 450");
 
   CameraPath recorded{"recorded", s.scene, {}};
-  CameraPose pose = path.frames.empty() ? overview_pose(*scene) : path.frames.front();
+  CameraPose pose = start_pose(*scene, path, *plan);
+  const NavigationSpeeds speeds = speeds_for(*scene);
   bool playing = !path.frames.empty();
   size_t path_frame = 0;
   int frame = 0;
@@ -171,7 +190,7 @@ int run_viewer(const ViewSettings& s) {
       pose = path.frames[path_frame];
       path_frame = (path_frame + 1) % path.frames.size();
     } else if (!typing) {
-      pose = navigate(pose, keys_to_input(w), NavigationSpeeds{}, dt);
+      pose = navigate(pose, keys_to_input(w), speeds, dt);
     }
     if (!s.record.empty()) recorded.frames.push_back(pose);
 
@@ -179,6 +198,7 @@ int run_viewer(const ViewSettings& s) {
     view.pose = pose;
     w.framebuffer_size(view.width, view.height);
     view.hfov_deg = s.hfov_deg;
+    view.near_m = near_plane_for(scene->bounds);
     const auto start = std::chrono::steady_clock::now();
     if (!unavailable[current].empty()) current = before;
     if (auto ok = show(current); !ok) {

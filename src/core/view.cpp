@@ -1,5 +1,6 @@
 #include "farfield/core/view.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -39,6 +40,12 @@ glm::mat4 View::projection_matrix() const {
   p[2][3] = -1.0f;
   p[3][2] = near_m;
   return p;
+}
+
+float near_plane_for(const Bounds3& b) {
+  const glm::vec3 size = b.size();
+  const float extent = std::max({size.x, size.y, size.z});
+  return std::clamp(0.01f * extent, 1e-5f, 0.1f);
 }
 
 }  // namespace farfield

@@ -178,6 +178,7 @@ class BenchRun {
     v.width = o_.width;
     v.height = o_.height;
     v.hfov_deg = o_.hfov_deg;
+    v.near_m = near_plane_for(scene_.bounds);
     return v;
   }
 

@@ -32,6 +32,7 @@
 #include <glm/matrix.hpp>
 
 #include "farfield/core/assert.hpp"
+#include "farfield/core/text.hpp"
 
 // assimp logs nothing unless someone calls Assimp::DefaultLogger::create (its default logger
 // is a NullLogger), so nothing here touches the logger.
@@ -400,8 +401,9 @@ Material material_of(const aiMaterial& m) {
 // on error.
 class Converter {
  public:
-  Converter(const std::string& path, const aiScene& ai, Scene& scene)
-      : path_(path),
+  Converter(const std::string& path, const aiScene& ai, Scene& scene, const glm::dmat4& root)
+      : root_(root),
+        path_(path),
         stem_(fs::path(path).stem().string()),
         ai_(ai),
         scene_(scene),
@@ -410,7 +412,7 @@ class Converter {
 
   Result<void> run() {
     // Depth first with an explicit stack: a deep hierarchy cannot overflow the call stack.
-    std::vector<std::pair<const aiNode*, glm::dmat4>> stack{{ai_.mRootNode, glm::dmat4(1.0)}};
+    std::vector<std::pair<const aiNode*, glm::dmat4>> stack{{ai_.mRootNode, root_}};
     while (!stack.empty()) {
       const auto [node, parent] = stack.back();
       stack.pop_back();
@@ -501,6 +503,7 @@ class Converter {
     return {};
   }
 
+  glm::dmat4 root_;  // the parent of the file's root node: --up, then --scale
   const std::string& path_;
   std::string stem_;
   const aiScene& ai_;
@@ -545,7 +548,11 @@ Result<void> check_file(const std::string& path) {
 
 }  // namespace
 
-Result<void> import_model(const std::string& path, Scene& scene) {
+Result<void> import_model(const std::string& path, Scene& scene, const ImportOptions& options) {
+  if (options.up != 'y' && options.up != 'z')
+    return make_error("--up must be y or z (got ", std::string(1, options.up), ")");
+  if (!(std::isfinite(options.scale) && options.scale > 0.0 && options.scale <= 1e6))
+    return make_error("--scale must be a number in (0, 1e6] (got ", number_text(options.scale), ")");
   if (auto r = check_file(path); !r) return r;
   {
     const MappedFile file(path);
@@ -562,17 +569,22 @@ Result<void> import_model(const std::string& path, Scene& scene) {
     return make_error(path, ": not a readable model (", importer.GetErrorString(), ")");
 
   const Snapshot before(scene);
-  Result<void> r = Converter(path, *ai, scene).run();
+  // Z up to Y up is a quarter turn about X: (x, y, z) -> (x, z, -y).
+  glm::dmat4 root = glm::dmat4(options.scale);
+  root[3][3] = 1.0;
+  if (options.up == 'z') root = root * glm::dmat4(1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1);
+  Result<void> r = Converter(path, *ai, scene, root).run();
   if (!r) before.restore(scene);
   return r;
 }
 
-Result<Scene> import_models(std::span<const std::string> paths, Progress& progress) {
+Result<Scene> import_models(std::span<const std::string> paths, Progress& progress,
+                            const ImportOptions& options) {
   if (paths.empty()) return make_error("import: no input files");
   Scene scene;
   progress.start("import", paths.size());
   for (const std::string& path : paths) {
-    if (auto r = import_model(path, scene); !r) {
+    if (auto r = import_model(path, scene, options); !r) {
       progress.finish();
       return r.error();
     }

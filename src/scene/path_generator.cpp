@@ -26,7 +26,6 @@ constexpr double kCrossingAspect = 1.5;  // a street piece no longer than this i
 constexpr uint32_t kMostStraight = 2;    // crossings driven straight through in a row
 constexpr double kTouch = 0.05;          // a segment's end may miss its crossing by this
                                          // fraction of the street width
-constexpr double kFlyPitchDeg = -25.0;   // looking ahead and down at the roofs
 constexpr uint32_t kMostFrames = 1'000'000;
 
 double degrees(double radians) {
@@ -380,10 +379,23 @@ double loop_distance(uint32_t k, const PathOptions& o, double length) {
   return o.speed > 0.0 ? std::fmod(k * o.speed, length) : length * k / o.frames;
 }
 
+// A pose at `eye` looking at `target`.
+CameraPose looking_at(const glm::dvec3& eye, const glm::dvec3& target) {
+  const glm::dvec3 to = target - eye;
+  CameraPose pose;
+  pose.position = glm::vec3(eye);
+  pose.yaw_deg = float(wrap_degrees(yaw_of({to.x, to.z})));
+  pose.pitch_deg = float(degrees(std::atan2(to.y, std::hypot(to.x, to.z))));
+  return pose;
+}
+
+// Fly and orbit scale with the scene alone (no constant in metres), so a 1 m model and a
+// 10 km city are seen alike.
 CameraPath fly_path(const Scene& scene, const PathOptions& o) {
-  const glm::vec3 c = scene.bounds.center(), size = scene.bounds.size();
-  const double a = std::max(0.35 * size.x, 5.0), b = std::max(0.35 * size.z, 5.0);
-  const double y = scene.bounds.min.y + 1.5 * size.y + 20.0;
+  const glm::dvec3 c(scene.bounds.center()), size(scene.bounds.size());
+  const double extent = std::max({size.x, size.z, 1e-3});
+  const double a = std::max(0.35 * size.x, 0.05 * extent), b = std::max(0.35 * size.z, 0.05 * extent);
+  const double y = scene.bounds.max.y + 0.25 * extent;
   // Arc length along the ellipse, tabulated, so frames are evenly spaced in metres.
   constexpr int kSteps = 4096;
   std::vector<double> s(kSteps + 1, 0.0);
@@ -400,30 +412,29 @@ CameraPath fly_path(const Scene& scene, const PathOptions& o) {
     const double f = (d - s[i - 1]) / std::max(s[i] - s[i - 1], 1e-12);
     const double phi = 2 * kPi * (i - 1 + f) / kSteps;
     const dvec2 p = at(phi);
-    CameraPose& pose = path.frames[k];
-    pose.position = {float(c.x + p.x), float(y), float(c.z + p.y)};
-    pose.yaw_deg = float(wrap_degrees(yaw_of({-a * std::sin(phi), b * std::cos(phi)})));
-    pose.pitch_deg = float(kFlyPitchDeg);
+    // Ahead and inwards: halfway to the loop's point a quarter turn on, at mid height, so
+    // that the scene's middle stays in sight.
+    const dvec2 ahead = 0.5 * at(phi + 0.5 * kPi);
+    path.frames[k] = looking_at({c.x + p.x, y, c.z + p.y}, {c.x + ahead.x, c.y, c.z + ahead.y});
   }
   return path;
 }
 
 CameraPath orbit_path(const Scene& scene, const PathOptions& o) {
   const glm::dvec3 c(scene.bounds.center()), size(scene.bounds.size());
-  const double half = 0.5 * std::max(size.x, size.z);
-  // Margin: outside the scene's middle, and well away from a small or tall one.
-  const double radius = 0.8 * half + 0.5 * size.y + 10.0, height = 0.5 * radius;
+  // The bounding sphere inside the protocol's view (90 degrees wide at 4:3, so 73.7 degrees
+  // high), with 5% to spare, from 25 degrees above the horizon.
+  const double sphere = std::max(0.5 * glm::length(size), 1e-3);
+  const double half_fov = std::atan(0.75);  // tan(45 degrees) x 3/4
+  const double distance = 1.05 * sphere / std::sin(half_fov), elevation = 25.0 * kPi / 180.0;
+  const double radius = distance * std::cos(elevation), height = distance * std::sin(elevation);
   CameraPath path;
   path.kind = "orbit";
   path.frames.resize(o.frames);
   for (uint32_t k = 0; k < o.frames; ++k) {
     const double angle = loop_distance(k, o, 2 * kPi * radius) / radius;
-    const glm::dvec3 p = c + glm::dvec3(radius * std::cos(angle), height, radius * std::sin(angle));
-    const glm::dvec3 to = c - p;
-    CameraPose& pose = path.frames[k];
-    pose.position = glm::vec3(p);
-    pose.yaw_deg = float(wrap_degrees(yaw_of({to.x, to.z})));
-    pose.pitch_deg = float(degrees(std::atan2(to.y, std::hypot(to.x, to.z))));
+    path.frames[k] =
+        looking_at(c + glm::dvec3(radius * std::cos(angle), height, radius * std::sin(angle)), c);
   }
   return path;
 }

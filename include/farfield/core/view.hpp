@@ -9,6 +9,8 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
+#include "farfield/core/bounds.hpp"
+
 namespace farfield {
 
 struct CameraPose {
@@ -26,7 +28,7 @@ struct View {
   int width = 1024;        // pixels
   int height = 768;        // pixels
   float hfov_deg = 90.0f;  // horizontal field of view
-  float near_m = 0.1f;     // near plane; there is no far plane
+  float near_m = 0.1f;     // near plane; there is no far plane (near_plane_for: per scene)
 
   float aspect() const { return float(width) / float(height); }
   float vfov_deg() const;
@@ -34,5 +36,9 @@ struct View {
   glm::mat4 projection_matrix() const;  // reversed-Z, infinite far plane
   glm::mat4 view_projection() const { return projection_matrix() * view_matrix(); }
 };
+
+// The near plane for a scene of these bounds: 0.1 m for anything 10 m or more across
+// (cities, buildings), 1/100 of the size for smaller models, which 0.1 m would cut.
+float near_plane_for(const Bounds3& scene_bounds);
 
 }  // namespace farfield

@@ -16,11 +16,19 @@
 
 namespace farfield {
 
+// What the file does not say, or says wrongly: its up axis and its unit (a GLB in millimetres
+// has scale 0.001). Applied after the file's own transforms: rotated to +Y up, then scaled.
+struct ImportOptions {
+  char up = 'y';       // 'y' or 'z': the axis that points up in the file
+  double scale = 1.0;  // metres per file unit, > 0
+};
+
 // Appends the model in `path` to `scene`. On error the scene is left as it was and the message
 // names the file and the problem (missing, empty, not a model, truncated, no triangles).
-Result<void> import_model(const std::string& path, Scene& scene);
+Result<void> import_model(const std::string& path, Scene& scene, const ImportOptions& options = {});
 
 // Imports several files into one new scene, in order.
-Result<Scene> import_models(std::span<const std::string> paths, Progress& progress);
+Result<Scene> import_models(std::span<const std::string> paths, Progress& progress,
+                            const ImportOptions& options = {});
 
 }  // namespace farfield
