@@ -55,19 +55,13 @@ NavigationInput keys_to_input(const gpu::Window& w) {
 }
 
 // Without a path: at a corner of the scene, a third of its size up, looking at its centre.
-// Where the viewer opens: the first pose of --path; else the first pose of the path the
-// start technique's bake was made along (inside what it baked); else the first pose of an
-// orbit, which has the whole scene in sight.
-CameraPose start_pose(const Scene& scene, const CameraPath& path,
-                      const std::vector<PlannedTechnique>& plan) {
+// Where the viewer opens: the first pose of --path; else where the start technique's bake
+// holds (stratified: inside a baked viewcell); else the first pose of an orbit, which has the
+// whole scene in sight.
+CameraPose start_pose(const Scene& scene, const CameraPath& path, const Technique* loaded) {
   if (!path.frames.empty()) return path.frames.front();
-  for (const PlannedTechnique& t : plan) {
-    if (!t.bake) continue;
-    const auto baked_along = t.bake->settings.find("path");
-    if (baked_along == t.bake->settings.end() || baked_along->second.empty()) continue;
-    if (auto read = read_camera_path(baked_along->second); read && !read->frames.empty())
-      return read->frames.front();
-  }
+  if (loaded)
+    if (auto inside = loaded->start_pose()) return *inside;
   auto orbit = generate_path(scene, {.kind = "orbit", .frames = 1});
   return orbit && !orbit->frames.empty() ? orbit->frames.front() : CameraPose{};
 }
@@ -152,7 +146,8 @@ int run_viewer(const ViewSettings& s) {
   ImGui_ImplOpenGL3_Init("#version 450");
 
   CameraPath recorded{"recorded", s.scene, {}};
-  CameraPose pose = start_pose(*scene, path, *plan);
+  const bool start_loaded = path.frames.empty() && show(current).ok();
+  CameraPose pose = start_pose(*scene, path, start_loaded ? techniques[current].get() : nullptr);
   const NavigationSpeeds speeds = speeds_for(*scene);
   bool playing = !path.frames.empty();
   size_t path_frame = 0;

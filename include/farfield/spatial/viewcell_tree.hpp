@@ -32,6 +32,10 @@ struct CellKey {
   bool operator==(const CellKey&) const = default;
   auto operator<=>(const CellKey&) const = default;
   uint64_t packed() const { return uint64_t(at[0]) << 42 | uint64_t(at[1]) << 21 | at[2]; }
+  static CellKey unpacked(uint64_t p) {
+    constexpr uint64_t mask = (uint64_t(1) << 21) - 1;
+    return {{uint32_t(p >> 42 & mask), uint32_t(p >> 21 & mask), uint32_t(p & mask)}};
+  }
   std::string name() const;  // "x_y_z", zero-padded: the cell's part of its blob names
 };
 

@@ -98,6 +98,9 @@ class Technique {
   // Frames so far that fell back to plain geometry for want of anything better (outside a
   // bake's region, ...).
   virtual uint64_t fallback_frames() const { return 0; }
+  // After load: a pose where what the technique baked is seen at its best (stratified: inside
+  // a baked viewcell), for a viewer given no path; none where every pose is alike.
+  virtual std::optional<CameraPose> start_pose() const { return std::nullopt; }
   // One line on what load built (nodes, depth, ...), for reports.
   virtual std::string describe() const { return {}; }
   // The same as named numbers for bench.json (e.g. paper 002's Table 1 for colorcube).

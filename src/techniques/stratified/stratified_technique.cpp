@@ -1,9 +1,11 @@
 #include "stratified_technique.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "farfield/core/frustum.hpp"
 #include "farfield/store/bake_record.hpp"
@@ -293,6 +295,26 @@ void StratifiedTechnique::annotate(const View&, DrawList& list) const {
 
 std::string StratifiedTechnique::failure() const {
   return loader_ ? loader_->error() : "";
+}
+
+std::optional<CameraPose> StratifiedTechnique::start_pose() const {
+  if (shells_.empty() || shells_[0].baked.empty()) return std::nullopt;
+  // The first baked viewcell's viewpoint, facing its nearest baked neighbour: along the
+  // street (or path) the bake followed.
+  const ViewcellTree& tree = shells_[0].tree;
+  const glm::vec3 here = tree.centre(CellKey::unpacked(shells_[0].baked.front()));
+  glm::vec3 toward = here + glm::vec3(1, 0, 0);
+  float nearest = INFINITY;
+  for (size_t i = 1; i < shells_[0].baked.size(); ++i) {
+    const glm::vec3 c = tree.centre(CellKey::unpacked(shells_[0].baked[i]));
+    const glm::vec2 d(c.x - here.x, c.z - here.z);
+    if (glm::dot(d, d) > 0.0f && glm::dot(d, d) < nearest) nearest = glm::dot(d, d), toward = c;
+  }
+  CameraPose pose;
+  pose.position = here;
+  pose.yaw_deg = glm::degrees(std::atan2(toward.z - here.z, toward.x - here.x));
+  if (pose.yaw_deg < 0.0f) pose.yaw_deg += 360.0f;
+  return pose;
 }
 
 std::string StratifiedTechnique::describe() const {

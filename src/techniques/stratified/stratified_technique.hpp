@@ -34,6 +34,7 @@ class StratifiedTechnique final : public Technique {
   uint64_t fallback_frames() const override {
     return unbaked_frames_ + outside_frames_ + damaged_frames_;
   }
+  std::optional<CameraPose> start_pose() const override;
   std::string describe() const override;
   std::vector<std::pair<std::string, double>> figures() const override;
   void annotate(const View& eye, DrawList& list) const override;
