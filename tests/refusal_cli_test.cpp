@@ -29,7 +29,7 @@ class RefusalGL : public ::testing::Test {
           "generate city --blocks 2 --seed 7 --out " + file("other.ffscene"),
           "path " + file("c.ffscene") + " --kind street --frames 12 --out " + file("p.json"),
           "bake -q " + file("c.ffscene") + " -t colorcube --out " + file("c.ffpack"),
-          "bake -q " + file("c.ffscene") + " -t stratified --set stratified.path=" +
+          "bake -q " + file("c.ffscene") + " -t stratified --set stratified.box=100 --set stratified.path=" +
               file("p.json") + " --out " + file("c.ffpack")}) {
       auto r = run_farfield(args);
       ASSERT_EQ(r.exit_status, 0) << args << "\n" << r.output;

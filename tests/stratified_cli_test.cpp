@@ -125,6 +125,13 @@ TEST(StratifiedCli, BakeRefusesLimitsThatSelectNothing) {
     EXPECT_NE(r.output.find(words), std::string::npos) << setting << ": " << r.output;
     EXPECT_FALSE(std::filesystem::exists(dir.file("p.ffpack"))) << setting;
   }
+  // One object (a tree in one piece) is never wholly outside a box around a viewpoint near
+  // it: nothing would be far, and the bake says so.
+  ASSERT_EQ(run_farfield("generate tree -q --iterations 3 --objects 1 --out tree.ffscene", cwd).exit_status, 0);
+  auto r = run_farfield("bake tree.ffscene -t stratified -q --out t.ffpack", cwd);
+  EXPECT_EQ(r.exit_status, 1);
+  EXPECT_NE(r.output.find("nothing worth baking"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("t.ffpack")));
 }
 
 TEST(StratifiedCliGL, BenchStopsOnADamagedBlobAndNamesIt) {

@@ -51,7 +51,7 @@ TEST(ViewGL, OpensInsideTheBakeWithoutAPath) {
                                dir.file("p.json"))
                 .exit_status,
             0);
-  ASSERT_EQ(test::run_farfield("bake -q " + dir.file("c.ffscene") + " -t stratified --set stratified.path=" +
+  ASSERT_EQ(test::run_farfield("bake -q " + dir.file("c.ffscene") + " -t stratified --set stratified.box=100 --set stratified.path=" +
                                dir.file("p.json") + " --out " + dir.file("c.ffpack"))
                 .exit_status,
             0);

@@ -79,15 +79,10 @@ Result<std::vector<ShellParams>> plan_shells(const StratifiedOptions& o, double 
 // The viewcells of each shell that the bake covers: every one, or those a camera path passes
 // through and those meeting a limit box.
 Result<std::vector<std::optional<std::vector<CellKey>>>> wanted_cells(
-    const StratifiedOptions& o, const std::vector<ViewcellTree>& trees) {
+    const StratifiedOptions& o, const std::optional<CameraPath>& path,
+    const std::vector<ViewcellTree>& trees) {
   std::vector<std::optional<std::vector<CellKey>>> wanted(trees.size());
-  if (o.path.empty() && !o.limit) return wanted;
-  std::optional<CameraPath> path;
-  if (!o.path.empty()) {
-    auto read = read_camera_path(o.path);
-    if (!read) return read.error();
-    path = std::move(*read);
-  }
+  if (!path && !o.limit) return wanted;
   for (size_t s = 0; s < trees.size(); ++s) {
     const ViewcellTree& tree = trees[s];
     std::set<CellKey> cells;
@@ -126,6 +121,66 @@ Result<std::vector<std::optional<std::vector<CellKey>>>> wanted_cells(
   return wanted;
 }
 
+// What the bake covers when band is auto (docs/techniques/stratified.md, "Defaults from the
+// scene"): the street band where the scene has streets and the path, if any, stays in it;
+// else the path's heights, 1.5 m either side; else every height. Across, the scene and the
+// path (an orbit leaves the scene's box).
+Result<Bounds3> bake_region(const StratifiedOptions& o, const Scene& scene,
+                            const std::optional<CameraPath>& path) {
+  Bounds3 across = scene.bounds;
+  Bounds3 walked;
+  if (path)
+    for (const CameraPose& p : path->frames) walked.expand(p.position);
+  across.expand(walked);
+  if (o.band != "auto") return navigable_region(o.band, across);
+  const bool streets = std::any_of(scene.objects.begin(), scene.objects.end(),
+                                   [](const Object& obj) { return obj.kind == ObjectKind::street; });
+  auto street = navigable_region("street", across);
+  if (!street) return street;
+  const bool path_in_street =
+      !path || (walked.min.y >= street->min.y && walked.max.y <= street->max.y);
+  if (streets && path_in_street) return street;
+  Bounds3 region = across;
+  if (path) {
+    region.min.y = walked.min.y - 1.5f;
+    region.max.y = walked.max.y + 1.5f;
+  }
+  return region;
+}
+
+// paper 000 sized its 240 m box from throughput (Sec. 2.4.2): the box whose near triangles
+// in view fill one frame, p = b^2 rho tan(h/2) / 4 at a density rho over the ground. With p
+// given (near_triangles) and rho the scene's mean over its ground area, b follows; kept
+// within 1/64 of the scene and the scene itself.
+double derived_box(const Scene& scene, int near_triangles) {
+  const glm::vec3 size = scene.bounds.size();
+  const double extent = std::max({double(size.x), double(size.z), 1e-3});
+  const double area = std::max(double(size.x) * double(size.z), extent * extent * 1e-6);
+  const double density = double(scene.triangle_count()) / area;
+  auto box = box_from_throughput({.triangles_per_second = double(near_triangles),
+                                  .frame_ms = 1000.0,
+                                  .density = density,
+                                  .unit = DensityUnit::per_square_metre});
+  const double b = box ? box->box : extent;
+  return std::clamp(b, extent / 64.0, extent);
+}
+
+// The share of the scene's triangles in the far fields (objects wholly outside the box),
+// averaged over up to 32 of the viewcells to bake, spread over them.
+double far_share(const Scene& scene, const ViewcellTree& tree, const std::vector<CellKey>& cells) {
+  if (cells.empty() || scene.triangle_count() == 0) return 0.0;
+  const size_t samples = std::min<size_t>(32, cells.size());
+  double sum = 0.0;
+  for (size_t i = 0; i < samples; ++i) {
+    const Bounds3 box = tree.box_bounds(cells[i * cells.size() / samples]);
+    uint64_t far = 0;
+    for (const Object& o : scene.objects)
+      if (!meet(o.bounds, box)) far += o.triangle_count();
+    sum += double(far) / double(scene.triangle_count());
+  }
+  return sum / double(samples);
+}
+
 }  // namespace
 
 Result<void> StratifiedTechnique::bake(const BakeContext& context) {
@@ -135,18 +190,29 @@ Result<void> StratifiedTechnique::bake(const BakeContext& context) {
   FF_ASSERT(context.renderer != nullptr, "the stratified bake renders: it needs a renderer");
   gpu::Renderer& renderer = *context.renderer;
   const auto start = std::chrono::steady_clock::now();
-  auto region = navigable_region(options_.band, scene.bounds);
+  std::optional<CameraPath> path;
+  if (!options_.path.empty()) {
+    auto read = read_camera_path(options_.path);
+    if (!read) return read.error();
+    path = std::move(*read);
+  }
+  auto region = bake_region(options_, scene, path);
   if (!region) return region.error();
-  // The largest distance from a viewpoint to a far point: the scene's diagonal. Eq. 2.2's
-  // error grows with it, so this bounds the error for every far point (the paper's l is the
-  // model's length, which a point in the opposite corner exceeds).
-  const double model = glm::length(scene.bounds.size());
-  auto shells = plan_shells(options_, model, double(region->size().y));
+  StratifiedOptions o = options_;
+  if (o.box == 0) o.box = derived_box(scene, o.near_triangles);
+  // The largest distance from a viewpoint to a far point: the diagonal of the scene and the
+  // region (a path may leave the scene). Eq. 2.2's error grows with it, so this bounds the
+  // error for every far point (the paper's l is the model's length, which a point in the
+  // opposite corner exceeds).
+  Bounds3 reach = scene.bounds;
+  reach.expand(*region);
+  const double model = glm::length(reach.size());
+  auto shells = plan_shells(o, model, double(region->size().y));
   if (!shells) return shells.error();
 
   BakeParams params;
   params.scene = scene_fingerprint(scene);
-  params.alpha_deg = options_.alpha_deg;
+  params.alpha_deg = o.alpha_deg;
   params.region = *region;
   params.shells = *shells;
   params.resolution = options_.resolution;
@@ -160,8 +226,6 @@ Result<void> StratifiedTechnique::bake(const BakeContext& context) {
                       " holds a stratified bake with other settings or of another "
                       "scene; bake into a new pack (its settings:\n",
                       **existing, ")");
-  if (!*existing)
-    if (auto ok = store.set_meta(kParamsKey, text); !ok) return ok;
 
   std::vector<ViewcellTree> trees;
   for (const ShellParams& s : params.shells) {
@@ -169,7 +233,7 @@ Result<void> StratifiedTechnique::bake(const BakeContext& context) {
     if (!tree) return tree.error();
     trees.push_back(std::move(*tree));
   }
-  auto wanted = wanted_cells(options_, trees);
+  auto wanted = wanted_cells(options_, path, trees);
   if (!wanted) return wanted.error();
   uint64_t total = 0;
   std::vector<std::vector<uint64_t>> done(trees.size());
@@ -186,6 +250,23 @@ Result<void> StratifiedTechnique::bake(const BakeContext& context) {
                       std::to_string(kMaxViewcells),
                       " to bake; limit the bake with --set "
                       "stratified.path=PATH.json or stratified.limit=X0,Z0,X1,Z1, or raise alpha");
+  // A bake whose far fields would be (nearly) empty only slows the walk: say so, before
+  // anything is written.
+  const double share = far_share(
+      scene, trees[0], (*wanted)[0] ? *(*wanted)[0] : trees[0].cells_meeting(trees[0].region()));
+  if (share < o.far_share) {
+    const glm::vec3 size = scene.bounds.size();
+    char why[400];
+    std::snprintf(why, sizeof why,
+                  "stratified: the far fields would hold %.1f%% of the scene's triangles (the "
+                  "objects wholly outside a %.1f m box around a viewcell, in a scene %.1f x %.1f m "
+                  "across): nothing worth baking. A smaller stratified.box, or another technique "
+                  "(octree, colorcube) may suit this scene; stratified.far_share=0 bakes anyway",
+                  100.0 * share, params.shells[0].box, size.x, size.z);
+    return make_error(why);
+  }
+  if (!*existing)
+    if (auto ok = store.set_meta(kParamsKey, text); !ok) return ok;
   uint64_t already = 0;
   for (size_t s = 0; s < trees.size(); ++s) {
     if (!(*wanted)[s]) {

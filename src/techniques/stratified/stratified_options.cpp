@@ -62,12 +62,22 @@ std::span<const SettingSpec> stratified_settings() {
        .baked = true},
       {.key = "box",
        .type = SettingType::number,
-       .default_value = "240",
-       .help = "side of the far-field box around a viewcell (the innermost with shells)",
+       .default_value = "0",
+       .help = "side of the far-field box around a viewcell (the innermost with shells); 0: "
+               "from the scene, the box whose near triangles in view number near_triangles "
+               "at the scene's mean density over the ground (000, Sec. 2.4.2)",
        .unit = "m",
        .symbol = "b (000, Sec. 2.2)",
        .min = 0,
-       .min_open = true,
+       .baked = true},
+      {.key = "near_triangles",
+       .type = SettingType::integer,
+       .default_value = "16000",
+       .help = "with box=0: the near triangles in view a frame should draw, which sizes the box "
+               "(16000 gives the paper's 240 m on the default city)",
+       .symbol = "p (000, Eq. 2.3)",
+       .min = 1,
+       .max = 1000000000,
        .baked = true},
       {.key = "viewcell",
        .type = SettingType::number,
@@ -111,10 +121,20 @@ std::span<const SettingSpec> stratified_settings() {
        .baked = true},
       {.key = "band",
        .type = SettingType::text,
-       .default_value = "street",
-       .help = "navigable heights: street (the bottom 3 m), all, or Y0,Y1",
+       .default_value = "auto",
+       .help = "navigable heights: auto (street where the scene has streets and the path, if "
+               "any, stays in the bottom 3 m; else the path's heights +-1.5 m; else all), "
+               "street (the bottom 3 m), all, or Y0,Y1",
        .unit = "m",
        .baked = true},
+      {.key = "far_share",
+       .type = SettingType::number,
+       .default_value = "0.05",
+       .help = "refuse a bake whose far fields would hold less than this share of the scene's "
+               "triangles (nothing worth baking); 0 bakes anyway (bake only)",
+       .min = 0,
+       .max = 1,
+       .max_open = true},
       {.key = "path",
        .type = SettingType::text,
        .default_value = "",
@@ -171,6 +191,8 @@ Result<StratifiedOptions> stratified_options(const SettingValues& v) {
   StratifiedOptions o;
   o.alpha_deg = v.number("alpha");
   o.box = v.number("box");
+  o.near_triangles = v.integer("near_triangles");
+  o.far_share = v.number("far_share");
   o.viewcell = v.number("viewcell");
   o.paper_sizing = v.text("sizing") == "paper";
   o.resolution = v.integer("resolution");
@@ -178,8 +200,9 @@ Result<StratifiedOptions> stratified_options(const SettingValues& v) {
   o.codec = png ? ImageCodec::png() : ImageCodec::jpeg(v.integer("quality"));
   o.delta = v.flag("delta");
   o.band = v.text("band");
-  if (auto band = navigable_region(o.band, Bounds3{{0, 0, 0}, {1, 1, 1}}); !band)
-    return band.error();
+  if (o.band != "auto")
+    if (auto band = navigable_region(o.band, Bounds3{{0, 0, 0}, {1, 1, 1}}); !band)
+      return band.error();
   o.path = v.text("path");
   if (const std::string& limit = v.text("limit"); !limit.empty()) {
     auto c = numbers("limit", limit, 4);
@@ -204,7 +227,7 @@ Result<StratifiedOptions> stratified_options(const SettingValues& v) {
         "--set stratified.delta=1 needs stratified.codec=png: differences of "
         "JPEG images would add up their losses");
   if (o.factor == 0) o.factor = o.spacing == Spacing::linear ? 1.72 : 1.13;  // Sec. 4.2.1
-  if (o.viewcell > 0 && o.viewcell > o.box)
+  if (o.viewcell > 0 && o.box > 0 && o.viewcell > o.box)
     return make_error("--set stratified.viewcell (", std::to_string(o.viewcell),
                       " m) must not exceed stratified.box (", std::to_string(o.box), " m)");
   return o;
@@ -220,7 +243,7 @@ Result<Bounds3> navigable_region(const std::string& band, const Bounds3& scene) 
   }
   auto v = numbers("band", band, 2);
   if (!v)
-    return make_error("--set stratified.band must be street, all or Y0,Y1 (got '", band, "')");
+    return make_error("--set stratified.band must be auto, street, all or Y0,Y1 (got '", band, "')");
   if (!((*v)[0] < (*v)[1]))
     return make_error("--set stratified.band=Y0,Y1 needs Y0 < Y1 (got '", band, "')");
   region.min.y = float((*v)[0]);

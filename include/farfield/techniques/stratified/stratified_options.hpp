@@ -28,7 +28,8 @@ const char* style_name(Style style);
 struct StratifiedOptions {
   // Bake.
   double alpha_deg = 2.0;  // alpha_max
-  double box = 240.0;      // b, metres (the innermost box with shells)
+  double box = 0.0;        // b, metres (the innermost box with shells); 0: from the scene
+  int near_triangles = 16000;  // p of Eq. 2.3, which sizes the box when box is 0
   double viewcell = 0.0;   // v; 0: from alpha and the box (see `paper_sizing`)
   // v from paper 000's Eq. 2.2 (Eq. 4.1 with shells) rather than the strict 3D bound
   // (strict_viewcell_length), which holds for every eye point and far point.
@@ -36,7 +37,8 @@ struct StratifiedOptions {
   int resolution = 512;  // pixels per box side
   ImageCodec codec = ImageCodec::jpeg(85);
   bool delta = false;            // PNG residuals against a neighbouring viewcell (Sec. 3.1.4)
-  std::string band = "street";   // navigable heights: street, all, or "Y0,Y1"
+  std::string band = "auto";     // navigable heights: auto, street, all, or "Y0,Y1"
+  double far_share = 0.05;       // a bake whose far fields hold less is refused
   std::string path;              // bake only the viewcells this camera path passes through
   std::optional<Bounds3> limit;  // bake only the viewcells meeting this box (x0,z0,x1,z1)
   int shells = 1;                // Ch. 4
@@ -53,7 +55,8 @@ struct StratifiedOptions {
 std::span<const SettingSpec> stratified_settings();
 Result<StratifiedOptions> stratified_options(const SettingValues& values);
 
-// The navigable region of `band` within the scene's bounds: street is the bottom 3 m.
+// The navigable region of `band` (street, all, Y0,Y1; not auto) within the scene's bounds:
+// street is the bottom 3 m.
 Result<Bounds3> navigable_region(const std::string& band, const Bounds3& scene_bounds);
 
 }  // namespace farfield::stratified
