@@ -92,6 +92,11 @@ constexpr SettingSpec kSettings[] = {
      .min = 0,
      .max = 1e4,
      .min_open = true},
+    {.key = "force",
+     .type = SettingType::flag,
+     .default_value = "0",
+     .help = "bake even when no cube would be drawn at the tolerance from where the whole "
+             "scene is in view (the walk would be octree culling) (bake only)"},
     {.key = "threads",
      .type = SettingType::integer,
      .default_value = "0",
@@ -123,6 +128,7 @@ const TechniqueDescriptor colorcube_descriptor{
       o.occlusion = v.flag("occlusion");
       o.pixel_tolerance = float(v.number("pixels"));
       o.tree.threads = v.integer("threads");
+      o.force = v.flag("force");
       return std::unique_ptr<Technique>(std::make_unique<ColorcubeTechnique>(o));
     },
 };
@@ -139,7 +145,40 @@ Result<void> ColorcubeTechnique::use(CubeTree tree, gpu::Device& device) {
   return {};
 }
 
+namespace {
+
+// Whether the walk would ever draw a cube (docs/techniques/colorcube.md, "When it applies"):
+// a leaf cube is drawn once it projects below the tolerance, from a depth of its size over
+// epsilon (paper 002, Sec. 3.1); the farthest a point is seen in the protocol's view (1024 px
+// across 90 degrees) with the whole scene in sight is an orbit's distance plus the radius.
+Result<void> check_cubes_drawable(const Scene& scene, const ColorcubeOptions& o) {
+  const glm::vec3 size = scene.bounds.size();
+  const double side = std::max({double(size.x), double(size.y), double(size.z)});
+  const int depth = o.tree.depth > 0 ? o.tree.depth : derived_depth(scene, o.tree.triangles_per_leaf);
+  const double leaf_cube = side / double(1 << depth) / o.tree.leaf.cluster;
+  const double epsilon = o.pixel_tolerance * 2.0 / 1024.0;  // tan(45 degrees) = 1
+  const double radius = 0.5 * glm::length(glm::dvec3(size));
+  const double farthest = (1.05 / 0.6 + 1.0) * radius;  // orbit distance (path generator) + radius
+  const double nearest_cube = leaf_cube / epsilon;
+  if (nearest_cube <= farthest) return {};
+  const int deeper = int(std::ceil(std::log2(side / (o.tree.leaf.cluster * epsilon * farthest))));
+  char why[512];
+  std::snprintf(why, sizeof why,
+                "colorcube: no cube would be drawn: at depth %d a leaf cube is %.3g m, which "
+                "shrinks below %.3g px only from %.0f m, and the scene is seen whole from %.0f m "
+                "(every frame would be octree culling; colour cubes suit dense geometry seen "
+                "from afar, paper 002). Set colorcube.depth=%d or deeper, a larger "
+                "colorcube.pixels, or colorcube.force=1 to bake anyway",
+                depth, leaf_cube, double(o.pixel_tolerance), nearest_cube, farthest,
+                std::min(deeper, 12));
+  return make_error(why);
+}
+
+}  // namespace
+
 Result<void> ColorcubeTechnique::bake(const BakeContext& context) {
+  if (!options_.force)
+    if (auto ok = check_cubes_drawable(context.scene, options_); !ok) return ok;
   auto tree = build_cube_tree(context.scene, options_.tree, context.progress);
   if (!tree) return make_error("colorcube: ", tree.error().message);
   if (auto ok = save_cube_tree(*tree, context.store); !ok) return ok;

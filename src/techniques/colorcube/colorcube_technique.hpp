@@ -20,6 +20,9 @@ struct ColorcubeOptions {
   // Skip cells hidden behind cube faces already drawn this frame (not in the paper, which
   // draws every cell that passes frustum culling). Leaves the image unchanged.
   bool occlusion = true;
+  // Bake even when no leaf cube would shrink below the tolerance from where the scene is
+  // seen whole (the walk would be octree culling).
+  bool force = false;
 };
 
 extern const TechniqueDescriptor colorcube_descriptor;
