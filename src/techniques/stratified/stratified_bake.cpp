@@ -11,6 +11,7 @@
 
 #include "farfield/core/camera_path.hpp"
 #include "farfield/core/assert.hpp"
+#include "farfield/core/text.hpp"
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/object_set.hpp"
@@ -140,6 +141,11 @@ Result<Bounds3> bake_region(const StratifiedOptions& o, const Scene& scene,
   const bool path_in_street =
       !path || (walked.min.y >= street->min.y && walked.max.y <= street->max.y);
   if (streets && path_in_street) return street;
+  if (!path && !o.limit)
+    return make_error(
+        "stratified: this scene has no streets, so there is no navigable region to derive; "
+        "bake along a camera path (--set stratified.path=PATH.json, e.g. from farfield path "
+        "--kind orbit) or name the heights (stratified.band=all or Y0,Y1)");
   Bounds3 region = across;
   if (path) {
     region.min.y = walked.min.y - 1.5f;
@@ -199,7 +205,17 @@ Result<void> StratifiedTechnique::bake(const BakeContext& context) {
   auto region = bake_region(options_, scene, path);
   if (!region) return region.error();
   StratifiedOptions o = options_;
-  if (o.box == 0) o.box = derived_box(scene, o.near_triangles);
+  if (o.box == 0) {
+    o.box = derived_box(scene, o.near_triangles);
+    const glm::vec3 size = scene.bounds.size();
+    if (o.box >= std::max(size.x, size.z))
+      return make_error("stratified: the whole scene (", std::to_string(scene.triangle_count()),
+                        " triangles, ", number_text(size.x), " x ", number_text(size.z),
+                        " m) fits in the box its density asks for (stratified.near_triangles=",
+                        std::to_string(o.near_triangles),
+                        " in view): there is nothing far to bake; octree draws it as it is "
+                        "(or set stratified.box)");
+  }
   // The largest distance from a viewpoint to a far point: the diagonal of the scene and the
   // region (a path may leave the scene). Eq. 2.2's error grows with it, so this bounds the
   // error for every far point (the paper's l is the model's length, which a point in the

@@ -123,7 +123,7 @@ std::span<const SettingSpec> stratified_settings() {
        .type = SettingType::text,
        .default_value = "auto",
        .help = "navigable heights: auto (street where the scene has streets and the path, if "
-               "any, stays in the bottom 3 m; else the path's heights +-1.5 m; else all), "
+               "any, stays in the bottom 3 m; else the path's heights +-1.5 m), "
                "street (the bottom 3 m), all, or Y0,Y1",
        .unit = "m",
        .baked = true},
