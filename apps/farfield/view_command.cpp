@@ -22,6 +22,7 @@
 #include "farfield/scene/scene_file.hpp"
 #include "farfield/eval/frame_loop.hpp"
 #include "farfield/eval/run_plan.hpp"
+#include "farfield/store/bake_record.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
 
@@ -55,13 +56,8 @@ NavigationInput keys_to_input(const gpu::Window& w) {
 }
 
 // Without a path: at a corner of the scene, a third of its size up, looking at its centre.
-// Where the viewer opens: the first pose of --path; else where the start technique's bake
-// holds (stratified: inside a baked viewcell); else the first pose of an orbit, which has the
-// whole scene in sight.
-CameraPose start_pose(const Scene& scene, const CameraPath& path, const Technique* loaded) {
-  if (!path.frames.empty()) return path.frames.front();
-  if (loaded)
-    if (auto inside = loaded->start_pose()) return *inside;
+// The first pose of an orbit: the whole scene in sight.
+CameraPose overview_pose(const Scene& scene) {
   auto orbit = generate_path(scene, {.kind = "orbit", .frames = 1});
   return orbit && !orbit->frames.empty() ? orbit->frames.front() : CameraPose{};
 }
@@ -146,8 +142,18 @@ int run_viewer(const ViewSettings& s) {
   ImGui_ImplOpenGL3_Init("#version 450");
 
   CameraPath recorded{"recorded", s.scene, {}};
-  const bool start_loaded = path.frames.empty() && show(current).ok();
-  CameraPose pose = start_pose(*scene, path, start_loaded ? techniques[current].get() : nullptr);
+  // Where the viewer opens: the first pose of --path; else inside what the pack baked (the
+  // start technique's bake first, then any other's: stratified's viewcells); else with the
+  // whole scene in sight.
+  std::optional<CameraPose> start;
+  if (!path.frames.empty()) start = path.frames.front();
+  for (size_t k = 0; k <= descriptors.size() && !start && store; ++k) {
+    const size_t t = k == 0 ? current : k - 1;
+    if (t >= descriptors.size() || descriptors[t]->bake == BakeUse::none) continue;
+    auto record = read_bake_record(*store, descriptors[t]->name);
+    if (record && *record && show(t)) start = techniques[t]->start_pose();
+  }
+  CameraPose pose = start ? *start : overview_pose(*scene);
   const NavigationSpeeds speeds = speeds_for(*scene);
   bool playing = !path.frames.empty();
   size_t path_frame = 0;
@@ -239,6 +245,14 @@ int run_viewer(const ViewSettings& s) {
                 (unsigned long long)stats.draw_calls);
     ImGui::Text("at (%.1f, %.1f, %.1f)  heading %.0f  pitch %.0f", pose.position.x, pose.position.y,
                 pose.position.z, pose.yaw_deg, pose.pitch_deg);
+    // What the technique did, not only how fast: its far field, its fallbacks, what it built.
+    const Technique& shown = *techniques[current];
+    if (const auto box = shown.far_field_box())
+      ImGui::Text("far field beyond a %.0f m box", box->size().x);
+    if (const uint64_t fallback = shown.fallback_frames(); fallback > 0)
+      ImGui::Text("%s drawn as plain geometry (outside the bake)", counted(fallback, "frame").c_str());
+    if (const std::string built = shown.describe(); !built.empty())
+      ImGui::TextWrapped("%s", built.c_str());
     if (!path.frames.empty())
       ImGui::Text("path %s: frame %zu of %zu (P: %s)", path.kind.c_str(), path_frame,
                   path.frames.size(), playing ? "pause" : "play");
@@ -256,9 +270,10 @@ int run_viewer(const ViewSettings& s) {
       if (auto ok = write_image((*renderer)->capture(), s.screenshot); !ok) {
         exit_status = fail(ok.error().message);
       } else {
-        std::printf("wrote %s after %s (%s, %.1f ms, %s)\n", s.screenshot.c_str(),
+        std::printf("wrote %s after %s (%s, %.1f ms, %s, %llu fallback)\n", s.screenshot.c_str(),
                     counted(frame, "frame").c_str(), std::string(techniques[current]->name()).c_str(),
-                    smoothed_ms, counted(stats.triangles, "triangle").c_str());
+                    smoothed_ms, counted(stats.triangles, "triangle").c_str(),
+                    (unsigned long long)techniques[current]->fallback_frames());
       }
       w.close();
     } else if (s.screenshot.empty() && s.frames > 0 && frame >= s.frames) {
