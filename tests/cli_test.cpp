@@ -12,7 +12,9 @@ namespace {
 using test::run_farfield;
 using test::TempDir;
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
+std::string quoted(const std::string& s) {
+  return "'" + s + "'";
+}
 
 TEST(Cli, HelpExplainsEveryCommand) {
   auto r = run_farfield("--help");
@@ -29,9 +31,10 @@ TEST(Cli, HelpExplainsEveryCommand) {
 
 TEST(Cli, UsageErrorsExitTwo) {
   TempDir dir;
-  for (const char* args : {"", "--bogus", "info", "info a b", "generate", "generate city",
-                           "generate city --out x.ffscene --bogus", "generate city --out x.ffscene --rows many",
-                           "import --out x.ffscene", "teleport"}) {
+  for (const char* args :
+       {"", "--bogus", "info", "info a b", "generate", "generate city",
+        "generate city --out x.ffscene --bogus", "generate city --out x.ffscene --rows many",
+        "import --out x.ffscene", "teleport"}) {
     auto r = run_farfield(args, dir.path().string());
     EXPECT_EQ(r.exit_status, 2) << args << "\n" << r.output;
     EXPECT_FALSE(r.output.empty()) << args;
@@ -64,11 +67,11 @@ TEST(Cli, MessagesNameTheProblemOnce) {
                    quoted(dir.file("p.json")));
   EXPECT_EQ(r.exit_status, 0) << r.output;
   EXPECT_NE(r.output.find(", 1 frame,"), std::string::npos) << r.output;
-  r = run_farfield("bench " + quoted(dir.file("one.ffscene")) + " --path " + quoted(dir.file("p.json")) +
-                   " --hfov 200 --out " + quoted(dir.file("b")));
+  r = run_farfield("bench " + quoted(dir.file("one.ffscene")) + " --path " +
+                   quoted(dir.file("p.json")) + " --hfov 200 --out " + quoted(dir.file("b")));
   EXPECT_NE(r.output.find("(got 200)"), std::string::npos) << r.output;
-  r = run_farfield("bench " + quoted(dir.file("one.ffscene")) + " --path " + quoted(dir.file("p.json")) +
-                   " --frames 5 --out " + quoted(dir.file("b")));
+  r = run_farfield("bench " + quoted(dir.file("one.ffscene")) + " --path " +
+                   quoted(dir.file("p.json")) + " --frames 5 --out " + quoted(dir.file("b")));
   EXPECT_EQ(r.exit_status, 1);
   EXPECT_NE(r.output.find("has only 1 frame"), std::string::npos) << r.output;
   // A file of another kind is called what it seems to be.
@@ -76,7 +79,8 @@ TEST(Cli, MessagesNameTheProblemOnce) {
   EXPECT_EQ(r.exit_status, 1);
   EXPECT_NE(r.output.find("it is JSON"), std::string::npos) << r.output;
   // A screenshot name farfield cannot write is refused before the window opens.
-  r = run_farfield("view " + quoted(dir.file("one.ffscene")) + " --screenshot " + quoted(dir.file("s.gif")));
+  r = run_farfield("view " + quoted(dir.file("one.ffscene")) + " --screenshot " +
+                   quoted(dir.file("s.gif")));
   EXPECT_EQ(r.exit_status, 2);
   EXPECT_NE(r.output.find(".png, .jpg or .jpeg"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir.file("b")));

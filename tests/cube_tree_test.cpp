@@ -230,8 +230,9 @@ TEST(CubeTree, BakeCommandWritesAPackInfoDescribes) {
   ASSERT_TRUE(write_scene(box_field(3), dir.file("s.ffscene")));
   // Seen whole, the small field's leaf cubes never shrink below a pixel: the bake says so and
   // writes nothing, unless forced.
-  auto r = test::run_farfield("bake " + dir.file("s.ffscene") + " -t colorcube -q --set colorcube.depth=3 --out " +
-                              dir.file("s.ffpack"));
+  auto r =
+      test::run_farfield("bake " + dir.file("s.ffscene") +
+                         " -t colorcube -q --set colorcube.depth=3 --out " + dir.file("s.ffpack"));
   EXPECT_EQ(r.exit_status, 1);
   EXPECT_NE(r.output.find("no cube would be drawn"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir.file("s.ffpack")));

@@ -133,9 +133,10 @@ TEST(Octree, FixedDepthSplitsEveryNodeInsideTheGivenRoot) {
   // items it holds, over a root cube the caller chooses.
   const Bounds3 root = box({0, 0, 0}, {8, 8, 8});
   std::vector<Bounds3> items = {box({0.5f, 0.5f, 0.5f}, {0.6f, 0.6f, 0.6f}),
-                                box({4, 4, 4}, {5, 5, 5}),       // touches the centre from above
+                                box({4, 4, 4}, {5, 5, 5}),         // touches the centre from above
                                 box({20, 20, 20}, {21, 21, 21})};  // outside the root: skipped
-  const Octree tree = build_octree(items, {.max_depth = 3, .split_to_max_depth = true, .root = root});
+  const Octree tree =
+      build_octree(items, {.max_depth = 3, .split_to_max_depth = true, .root = root});
   ASSERT_FALSE(tree.nodes.empty());
   EXPECT_EQ(tree.nodes[0].bounds.min, root.min);
   EXPECT_EQ(tree.nodes[0].bounds.max, root.max);

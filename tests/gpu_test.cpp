@@ -273,8 +273,8 @@ TEST_F(RendererGL, ChunkedBuffersDrawTheSamePixels) {
   ASSERT_TRUE(chunked) << chunked.error().message;
   DrawList crossing;  // boxes 0 to 2 in one range, box 3 on its own
   crossing.opaque.push_back({0, scene_.objects[2].first_index + scene_.objects[2].index_count, 0});
-  crossing.transparent.push_back({scene_.objects[3].first_index, scene_.objects[3].index_count,
-                                  scene_.objects[3].material});
+  crossing.transparent.push_back(
+      {scene_.objects[3].first_index, scene_.objects[3].index_count, scene_.objects[3].material});
   for (const DrawList& list : {list_of(scene_, {0, 1, 2, 3}), crossing}) {
     const Image whole = render(front_, list);
     const Image parts = render(front_, list, chunked->get());

@@ -131,8 +131,8 @@ TEST(Import, UpAxisAndScaleTurnAndSizeTheModel) {
   EXPECT_NEAR(turned.bounds.size().z, 0.0f, 1e-6);
   // The normal turns with it: perpendicular to the triangle, which now lies in the XY plane.
   EXPECT_NEAR(std::abs(unpack_normal(turned.vertices[0].normal).z), 1.0f, 1e-2);
-  for (const ImportOptions& bad : {ImportOptions{.up = 'x'}, ImportOptions{.scale = 0.0},
-                                   ImportOptions{.scale = -1.0}}) {
+  for (const ImportOptions& bad :
+       {ImportOptions{.up = 'x'}, ImportOptions{.scale = 0.0}, ImportOptions{.scale = -1.0}}) {
     Scene scene;
     EXPECT_FALSE(import_model(dir.file("z.obj"), scene, bad).ok());
     EXPECT_TRUE(scene.objects.empty());

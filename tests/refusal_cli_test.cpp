@@ -28,9 +28,11 @@ class RefusalGL : public ::testing::Test {
          {"generate city --blocks 2 --out " + file("c.ffscene"),
           "generate city --blocks 2 --seed 7 --out " + file("other.ffscene"),
           "path " + file("c.ffscene") + " --kind street --frames 12 --out " + file("p.json"),
-          "bake -q " + file("c.ffscene") + " -t colorcube --set colorcube.force=1 --out " + file("c.ffpack"),
-          "bake -q " + file("c.ffscene") + " -t stratified --set stratified.box=100 --set stratified.path=" +
-              file("p.json") + " --out " + file("c.ffpack")}) {
+          "bake -q " + file("c.ffscene") + " -t colorcube --set colorcube.force=1 --out " +
+              file("c.ffpack"),
+          "bake -q " + file("c.ffscene") +
+              " -t stratified --set stratified.box=100 --set stratified.path=" + file("p.json") +
+              " --out " + file("c.ffpack")}) {
       auto r = run_farfield(args);
       if (r.exit_status != 0) {  // every test then fails with this, rather than skipping
         setup_failure_ = args + "\n" + r.output;
@@ -83,11 +85,12 @@ TEST_F(RefusalGL, BenchChecksEverythingBeforeTheFirstFrame) {
   expect_refused("-t brute --interleave --pipelined", "cannot be combined");
   // A walk setting is the run's to choose, a bake setting that agrees with the pack is fine.
   const std::string out = file("fine");
-  auto fine = run_farfield("bench -q --no-plot " + file("c.ffscene") + " --path " + file("p.json") +
-                           " --store " + file("c.ffpack") +
-                           " -t composite --set stratified.style=near"
-                           " --set stratified.alpha=2 --samples 0 --reference-every 0 --frames 4 --out " +
-                           out);
+  auto fine =
+      run_farfield("bench -q --no-plot " + file("c.ffscene") + " --path " + file("p.json") +
+                   " --store " + file("c.ffpack") +
+                   " -t composite --set stratified.style=near"
+                   " --set stratified.alpha=2 --samples 0 --reference-every 0 --frames 4 --out " +
+                   out);
   EXPECT_EQ(fine.exit_status, 0) << fine.output;
   const auto report = nlohmann::json::parse(test::read_file(out + "/bench.json"));
   EXPECT_EQ(report["techniques"][0]["frames"].size(), 4u);  // --frames 4 of the path's 12

@@ -119,7 +119,8 @@ TEST(StratifiedCli, BakeRefusesLimitsThatSelectNothing) {
            {"stratified.resolution=100000", "stratified.resolution"},
            {"stratified.sizing=loose", "strict,paper"},
        }) {
-    auto r = run_farfield("bake city.ffscene -t stratified -q --set stratified.box=60 --set " + setting + " --out p.ffpack",
+    auto r = run_farfield("bake city.ffscene -t stratified -q --set stratified.box=60 --set " +
+                              setting + " --out p.ffpack",
                           cwd);
     EXPECT_EQ(r.exit_status, 1) << setting;
     EXPECT_NE(r.output.find(words), std::string::npos) << setting << ": " << r.output;
@@ -129,14 +130,19 @@ TEST(StratifiedCli, BakeRefusesLimitsThatSelectNothing) {
   // path has no region to walk; a tree seen along an orbit fits in the box its density asks
   // for; and one object (a tree in one piece) is never wholly outside a smaller box around a
   // viewpoint inside its crown.
-  ASSERT_EQ(run_farfield("generate tree -q --iterations 3 --objects 1 --out tree.ffscene", cwd).exit_status, 0);
-  ASSERT_EQ(run_farfield("path tree.ffscene --kind orbit --frames 20 --out orbit.json", cwd).exit_status, 0);
+  ASSERT_EQ(run_farfield("generate tree -q --iterations 3 --objects 1 --out tree.ffscene", cwd)
+                .exit_status,
+            0);
+  ASSERT_EQ(
+      run_farfield("path tree.ffscene --kind orbit --frames 20 --out orbit.json", cwd).exit_status,
+      0);
   for (const auto& [settings, words] : std::vector<std::pair<std::string, std::string>>{
            {"", "no navigable region"},
            {"--set stratified.path=orbit.json", "nothing far to bake"},
            {"--set stratified.band=4,6 --set stratified.limit=-1,-1,1,1 --set stratified.box=4",
             "nothing worth baking"}}) {
-    auto r = run_farfield("bake tree.ffscene -t stratified -q " + settings + " --out t.ffpack", cwd);
+    auto r =
+        run_farfield("bake tree.ffscene -t stratified -q " + settings + " --out t.ffpack", cwd);
     EXPECT_EQ(r.exit_status, 1) << settings;
     EXPECT_NE(r.output.find(words), std::string::npos) << settings << ": " << r.output;
     EXPECT_FALSE(std::filesystem::exists(dir.file("t.ffpack"))) << settings;

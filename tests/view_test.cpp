@@ -18,15 +18,14 @@ TEST(ViewGL, ShowsTheSceneInAWindowUnderXvfb) {
   test::TempDir dir;
   auto gen = test::run_farfield("generate city --blocks 2 -q --out " + dir.file("c.ffscene"));
   ASSERT_EQ(gen.exit_status, 0) << gen.output;
-  auto path = test::run_farfield("path " + dir.file("c.ffscene") + " --kind orbit --frames 10 --out " +
-                                 dir.file("p.json"));
+  auto path = test::run_farfield("path " + dir.file("c.ffscene") +
+                                 " --kind orbit --frames 10 --out " + dir.file("p.json"));
   ASSERT_EQ(path.exit_status, 0) << path.output;
   const std::string xvfb = "-a -s '-screen 0 800x600x24' ";
-  auto r = test::run_farfield(
-      "view " + dir.file("c.ffscene") + " --path " + dir.file("p.json") +
-          " --width 320 --height 240 --frames 6 --screenshot " + dir.file("shot.png") +
-          " --record " + dir.file("rec.json"),
-      "", "xvfb-run " + xvfb);
+  auto r = test::run_farfield("view " + dir.file("c.ffscene") + " --path " + dir.file("p.json") +
+                                  " --width 320 --height 240 --frames 6 --screenshot " +
+                                  dir.file("shot.png") + " --record " + dir.file("rec.json"),
+                              "", "xvfb-run " + xvfb);
   ASSERT_EQ(r.exit_status, 0) << r.output;
   auto shot = read_png(dir.file("shot.png"));
   ASSERT_TRUE(shot) << shot.error().message;
@@ -46,27 +45,31 @@ TEST(ViewGL, ShowsTheSceneInAWindowUnderXvfb) {
 TEST(ViewGL, OpensInsideTheBakeWithoutAPath) {
   if (!std::filesystem::exists("/usr/bin/xvfb-run")) GTEST_SKIP() << "xvfb-run not installed";
   test::TempDir dir;
-  ASSERT_EQ(test::run_farfield("generate city --blocks 2 -q --out " + dir.file("c.ffscene")).exit_status, 0);
-  ASSERT_EQ(test::run_farfield("path " + dir.file("c.ffscene") + " --kind street --frames 8 --out " +
-                               dir.file("p.json"))
+  ASSERT_EQ(
+      test::run_farfield("generate city --blocks 2 -q --out " + dir.file("c.ffscene")).exit_status,
+      0);
+  ASSERT_EQ(test::run_farfield("path " + dir.file("c.ffscene") +
+                               " --kind street --frames 8 --out " + dir.file("p.json"))
                 .exit_status,
             0);
-  ASSERT_EQ(test::run_farfield("bake -q " + dir.file("c.ffscene") + " -t stratified --set stratified.box=100 --set stratified.path=" +
+  ASSERT_EQ(test::run_farfield("bake -q " + dir.file("c.ffscene") +
+                               " -t stratified --set stratified.box=100 --set stratified.path=" +
                                dir.file("p.json") + " --out " + dir.file("c.ffpack"))
                 .exit_status,
             0);
   const std::string xvfb = "xvfb-run -a -s '-screen 0 800x600x24' ";
   // No path: stratified opens inside a viewcell it baked, so it draws its near objects only.
-  auto r = test::run_farfield("view " + dir.file("c.ffscene") + " --store " + dir.file("c.ffpack") +
-                                  " -t stratified --width 320 --height 240 --frames 2 --screenshot " +
-                                  dir.file("s.png"),
-                              "", xvfb);
+  auto r = test::run_farfield(
+      "view " + dir.file("c.ffscene") + " --store " + dir.file("c.ffpack") +
+          " -t stratified --width 320 --height 240 --frames 2 --screenshot " + dir.file("s.png"),
+      "", xvfb);
   ASSERT_EQ(r.exit_status, 0) << r.output;
   auto scene = read_scene(dir.file("c.ffscene"));
   ASSERT_TRUE(scene);
   const size_t at = r.output.find("(stratified, ");
   ASSERT_NE(at, std::string::npos) << r.output;
-  const uint64_t drawn = std::stoull(r.output.substr(r.output.find(", ", r.output.find("ms", at)) + 2));
+  const uint64_t drawn =
+      std::stoull(r.output.substr(r.output.find(", ", r.output.find("ms", at)) + 2));
   EXPECT_LT(drawn, scene->triangle_count()) << r.output;
 }
 

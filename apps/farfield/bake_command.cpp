@@ -32,7 +32,8 @@ void add_bake_command(CLI::App& root, std::vector<Command>& commands) {
   commands.push_back({cmd, [s] {
                         TechniqueSettings settings;
                         for (const std::string& setting : s->settings)
-                          if (auto ok = settings.add(setting); !ok) return usage_error(ok.error().message);
+                          if (auto ok = settings.add(setting); !ok)
+                            return usage_error(ok.error().message);
                         if (auto d = find_technique(s->technique); !d)
                           return usage_error(d.error().message);
                         auto scene = read_scene(s->scene);

@@ -21,8 +21,8 @@ int write_and_report(const Scene& scene, const std::string& out,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("wrote %s: %s, %s, %.1f x %.1f m, in %.2f s\n", out.c_str(),
               counted(scene.triangle_count(), "triangle").c_str(),
-              counted(scene.objects.size(), "object").c_str(),
-              scene.bounds.size().x, scene.bounds.size().z, seconds);
+              counted(scene.objects.size(), "object").c_str(), scene.bounds.size().x,
+              scene.bounds.size().z, seconds);
   return 0;
 }
 
@@ -37,8 +37,9 @@ void add_city(CLI::App& generate, std::vector<Command>& commands) {
   auto s = std::make_shared<Settings>();
   CityOptions& c = s->city;
   CLI::App* cmd = generate.add_subcommand(
-      "city", "The random city of paper 000, App. A: blocks of buildings, parks, fountains, trees, "
-              "streets and curbs. The default is about 1 km x 1 km with over 1M triangles.");
+      "city",
+      "The random city of paper 000, App. A: blocks of buildings, parks, fountains, trees, "
+      "streets and curbs. The default is about 1 km x 1 km with over 1M triangles.");
   cmd->add_option("--out,-o", s->out, "Output .ffscene file")->required();
   cmd->add_option("--seed", c.seed, "Random seed; the same seed and options give the same file")
       ->capture_default_str();
@@ -55,8 +56,9 @@ void add_city(CLI::App& generate, std::vector<Command>& commands) {
   cmd->add_option("--rows", c.rows, "Maximum rows of buildings per block")->capture_default_str();
   cmd->add_option("--columns", c.columns, "Maximum columns of buildings per block")
       ->capture_default_str();
-  s->blocks_option = cmd->add_option("--blocks", s->blocks, "Blocks in each dimension (sets --blocks-x and --blocks-z)")
-                        ->check(CLI::Range(1u, 100000u));
+  s->blocks_option = cmd->add_option("--blocks", s->blocks,
+                                     "Blocks in each dimension (sets --blocks-x and --blocks-z)")
+                         ->check(CLI::Range(1u, 100000u));
   cmd->add_option("--blocks-x", c.blocks_x, "Blocks along X")->capture_default_str();
   cmd->add_option("--blocks-z", c.blocks_z, "Blocks along Z")->capture_default_str();
   cmd->add_option("--street-width", c.street_width, "Street width, m")->capture_default_str();
@@ -69,13 +71,13 @@ void add_city(CLI::App& generate, std::vector<Command>& commands) {
       ->capture_default_str();
   cmd->add_option("--park-blocks", c.park_block_fraction, "Fraction of blocks that are parks")
       ->capture_default_str();
-  cmd->add_option("--tree-blocks", c.tree_block_fraction,
-                  "Fraction of blocks lined with trees")
+  cmd->add_option("--tree-blocks", c.tree_block_fraction, "Fraction of blocks lined with trees")
       ->capture_default_str();
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
   commands.push_back({cmd, [s] {
                         const auto start = std::chrono::steady_clock::now();
-                        if (s->blocks_option->count()) s->city.blocks_x = s->city.blocks_z = s->blocks;
+                        if (s->blocks_option->count())
+                          s->city.blocks_x = s->city.blocks_z = s->blocks;
                         Progress progress(s->quiet);
                         auto scene = generate_city(s->city, progress);
                         progress.finish();
@@ -92,8 +94,9 @@ void add_field(CLI::App& generate, std::vector<Command>& commands) {
   };
   auto s = std::make_shared<Settings>();
   CLI::App* cmd = generate.add_subcommand(
-      "field", "Copies of one model on a square grid, each copy its own object (the scaling "
-               "experiments of paper 002, Sec. 6.3)");
+      "field",
+      "Copies of one model on a square grid, each copy its own object (the scaling "
+      "experiments of paper 002, Sec. 6.3)");
   cmd->add_option("--mesh", s->mesh, "The model: a .ffscene or any format 'import' reads")
       ->required();
   cmd->add_option("--count", s->field.count, "Number of copies")->capture_default_str();
@@ -130,8 +133,9 @@ void add_tree(CLI::App& generate, std::vector<Command>& commands) {
   auto s = std::make_shared<Settings>();
   TreeOptions& t = s->tree;
   CLI::App* cmd = generate.add_subcommand(
-      "tree", "An L-system tree of branch cylinders and double-sided leaves (paper 002, Sec. 5). "
-              "The default is 10 m tall with about 52K triangles in 28 objects.");
+      "tree",
+      "An L-system tree of branch cylinders and double-sided leaves (paper 002, Sec. 5). "
+      "The default is 10 m tall with about 52K triangles in 28 objects.");
   cmd->add_option("--out,-o", s->out, "Output .ffscene file")->required();
   cmd->add_option("--seed", t.seed, "Random seed; the same seed and options give the same file")
       ->capture_default_str();
@@ -141,8 +145,7 @@ void add_tree(CLI::App& generate, std::vector<Command>& commands) {
   cmd->add_option("--height", t.height, "Height of the branches' top, m")->capture_default_str();
   cmd->add_option("--branch-angle", t.branch_angle_deg, "Turn of + - & ^, degrees")
       ->capture_default_str();
-  cmd->add_option("--divergence", t.divergence_deg, "Roll of / \\, degrees")
-      ->capture_default_str();
+  cmd->add_option("--divergence", t.divergence_deg, "Roll of / \\, degrees")->capture_default_str();
   cmd->add_option("--length-ratio", t.length_ratio, "Branch length / parent's length")
       ->capture_default_str();
   cmd->add_option("--radius-ratio", t.radius_ratio, "Branch radius / parent's radius")
@@ -182,8 +185,9 @@ void add_landscape(CLI::App& generate, std::vector<Command>& commands) {
   auto s = std::make_shared<Settings>();
   LandscapeOptions& l = s->landscape;
   CLI::App* cmd = generate.add_subcommand(
-      "landscape", "Hills of fractal noise in square tiles, with groves of L-system trees (paper "
-                   "002, Sec. 5). The default is 1 km x 1 km with about 2M triangles.");
+      "landscape",
+      "Hills of fractal noise in square tiles, with groves of L-system trees (paper "
+      "002, Sec. 5). The default is 1 km x 1 km with about 2M triangles.");
   cmd->add_option("--out,-o", s->out, "Output .ffscene file")->required();
   cmd->add_option("--seed", l.seed, "Random seed; the same seed and options give the same file")
       ->capture_default_str();

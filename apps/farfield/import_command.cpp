@@ -18,12 +18,14 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
   };
   auto s = std::make_shared<Settings>();
   CLI::App* cmd = root.add_subcommand(
-      "import", "Import model files (OBJ, PLY, OFF, glTF/GLB, STL, DAE, 3DS, IFC, ... through "
-                "assimp) into one .ffscene; node transforms applied, names and colours kept");
+      "import",
+      "Import model files (OBJ, PLY, OFF, glTF/GLB, STL, DAE, 3DS, IFC, ... through "
+      "assimp) into one .ffscene; node transforms applied, names and colours kept");
   cmd->add_option("files", s->files, "Model files")->required();
   cmd->add_option("--out,-o", s->out, "Output .ffscene file")->required();
-  cmd->add_option("--up", s->up, "The axis that points up in the files: y (glTF, OBJ, most) or z "
-                                 "(many CAD, IFC and scan exports); farfield scenes are +Y up")
+  cmd->add_option("--up", s->up,
+                  "The axis that points up in the files: y (glTF, OBJ, most) or z "
+                  "(many CAD, IFC and scan exports); farfield scenes are +Y up")
       ->check(CLI::IsMember({"y", "z"}))
       ->capture_default_str();
   cmd->add_option("--scale", s->options.scale,
@@ -31,24 +33,23 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
       ->check(CLI::Range(1e-9, 1e6))
       ->capture_default_str();
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
-  commands.push_back({cmd, [s] {
-                        const auto start = std::chrono::steady_clock::now();
-                        Progress progress(s->quiet);
-                        s->options.up = s->up[0];
-                        auto scene = import_models(s->files, progress, s->options);
-                        progress.finish();
-                        if (!scene) return fail(scene.error().message);
-                        if (auto ok = write_scene(*scene, s->out); !ok)
-                          return fail(ok.error().message);
-                        std::printf("wrote %s: %s, %s from %s in %.2f s\n", s->out.c_str(),
-                                    counted(scene->triangle_count(), "triangle").c_str(),
-                                    counted(scene->objects.size(), "object").c_str(),
-                                    counted(s->files.size(), "file").c_str(),
-                                    std::chrono::duration<double>(
-                                        std::chrono::steady_clock::now() - start)
-                                        .count());
-                        return 0;
-                      }});
+  commands.push_back(
+      {cmd, [s] {
+         const auto start = std::chrono::steady_clock::now();
+         Progress progress(s->quiet);
+         s->options.up = s->up[0];
+         auto scene = import_models(s->files, progress, s->options);
+         progress.finish();
+         if (!scene) return fail(scene.error().message);
+         if (auto ok = write_scene(*scene, s->out); !ok) return fail(ok.error().message);
+         std::printf(
+             "wrote %s: %s, %s from %s in %.2f s\n", s->out.c_str(),
+             counted(scene->triangle_count(), "triangle").c_str(),
+             counted(scene->objects.size(), "object").c_str(),
+             counted(s->files.size(), "file").c_str(),
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+         return 0;
+       }});
 }
 
 }  // namespace farfield::cli

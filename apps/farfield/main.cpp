@@ -34,7 +34,8 @@ const CLI::App* named_command(const CLI::App& app, const std::string& word) {
 
 std::string command_names(const CLI::App& app) {
   std::string names;
-  for (const CLI::App* sub : app.get_subcommands({})) names += (names.empty() ? "" : ", ") + sub->get_name();
+  for (const CLI::App* sub : app.get_subcommands({}))
+    names += (names.empty() ? "" : ", ") + sub->get_name();
   return names;
 }
 
@@ -76,7 +77,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    const std::string help = command ? "farfield " + command->get_name() + " --help" : "farfield --help";
+    const std::string help =
+        command ? "farfield " + command->get_name() + " --help" : "farfield --help";
     return usage_error(std::string(e.what()) + " (" + help + ")");
   }
   try {

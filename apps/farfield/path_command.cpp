@@ -18,9 +18,10 @@ void add_path_command(CLI::App& root, std::vector<Command>& commands) {
   auto s = std::make_shared<Settings>();
   PathOptions& p = s->path;
   CLI::App* cmd = root.add_subcommand(
-      "path", "Make a camera path through a scene for 'bench' and 'view': street (at eye height "
-              "along the streets of a generated city), fly (a loop above the roofs) or orbit "
-              "(a circle around the scene, looking at its centre)");
+      "path",
+      "Make a camera path through a scene for 'bench' and 'view': street (at eye height "
+      "along the streets of a generated city), fly (a loop above the roofs) or orbit "
+      "(a circle around the scene, looking at its centre)");
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
   cmd->add_option("--kind", p.kind, "street, fly or orbit")
       ->check(CLI::IsMember({"street", "fly", "orbit"}))
@@ -35,26 +36,24 @@ void add_path_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_option("--eye-height", p.eye_height, "Eye height above the street, m (street)")
       ->capture_default_str();
   cmd->add_option("--out,-o", s->out, "Output path .json file")->required();
-  commands.push_back({cmd, [s] {
-                        auto scene = read_scene(s->scene);
-                        if (!scene) return fail(scene.error().message);
-                        auto path = generate_path(*scene, s->path);
-                        if (!path) {  // name the scene, unless it is an option that is wrong
-                          const std::string& message = path.error().message;
-                          return fail(message.starts_with("--") ? message
-                                                                : s->scene + ": " + message);
-                        }
-                        path->scene = s->scene;
-                        if (auto ok = write_camera_path(*path, s->out); !ok)
-                          return fail(ok.error().message);
-                        double length = 0.0;
-                        for (size_t i = 1; i < path->frames.size(); ++i)
-                          length += glm::distance(path->frames[i - 1].position,
-                                                  path->frames[i].position);
-                        std::printf("wrote %s: %s path, %s, %.1f m\n", s->out.c_str(),
-                                    path->kind.c_str(), counted(path->frames.size(), "frame").c_str(), length);
-                        return 0;
-                      }});
+  commands.push_back(
+      {cmd, [s] {
+         auto scene = read_scene(s->scene);
+         if (!scene) return fail(scene.error().message);
+         auto path = generate_path(*scene, s->path);
+         if (!path) {  // name the scene, unless it is an option that is wrong
+           const std::string& message = path.error().message;
+           return fail(message.starts_with("--") ? message : s->scene + ": " + message);
+         }
+         path->scene = s->scene;
+         if (auto ok = write_camera_path(*path, s->out); !ok) return fail(ok.error().message);
+         double length = 0.0;
+         for (size_t i = 1; i < path->frames.size(); ++i)
+           length += glm::distance(path->frames[i - 1].position, path->frames[i].position);
+         std::printf("wrote %s: %s path, %s, %.1f m\n", s->out.c_str(), path->kind.c_str(),
+                     counted(path->frames.size(), "frame").c_str(), length);
+         return 0;
+       }});
 }
 
 }  // namespace farfield::cli

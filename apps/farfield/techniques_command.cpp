@@ -9,10 +9,10 @@ namespace farfield::cli {
 
 void add_techniques_command(CLI::App& root, std::vector<Command>& commands) {
   auto markdown = std::make_shared<bool>(false);
-  CLI::App* cmd =
-      root.add_subcommand("techniques",
-                          "List the techniques and their settings (--set TECHNIQUE.KEY=VALUE on bake, "
-                          "bench and view): type, range, unit, default, the paper's symbol");
+  CLI::App* cmd = root.add_subcommand(
+      "techniques",
+      "List the techniques and their settings (--set TECHNIQUE.KEY=VALUE on bake, "
+      "bench and view): type, range, unit, default, the paper's symbol");
   cmd->add_flag("--markdown", *markdown,
                 "One settings table per technique, as in docs/techniques/");
   commands.push_back({cmd, [markdown] {

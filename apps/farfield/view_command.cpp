@@ -67,7 +67,8 @@ NavigationSpeeds speeds_for(const Scene& scene) {
   const glm::vec3 size = scene.bounds.size();
   const float extent = std::max({size.x, size.y, size.z});
   NavigationSpeeds speeds;
-  const float scale = std::clamp(0.1f * extent / speeds.move_m_per_s, 0.1f / speeds.move_m_per_s, 1.0f);
+  const float scale =
+      std::clamp(0.1f * extent / speeds.move_m_per_s, 0.1f / speeds.move_m_per_s, 1.0f);
   speeds.move_m_per_s *= scale;
   speeds.climb_m_per_s *= scale;
   return speeds;
@@ -250,7 +251,8 @@ int run_viewer(const ViewSettings& s) {
     if (const auto box = shown.far_field_box())
       ImGui::Text("far field beyond a %.0f m box", box->size().x);
     if (const uint64_t fallback = shown.fallback_frames(); fallback > 0)
-      ImGui::Text("%s drawn as plain geometry (outside the bake)", counted(fallback, "frame").c_str());
+      ImGui::Text("%s drawn as plain geometry (outside the bake)",
+                  counted(fallback, "frame").c_str());
     if (const std::string built = shown.describe(); !built.empty())
       ImGui::TextWrapped("%s", built.c_str());
     if (!path.frames.empty())
@@ -271,8 +273,9 @@ int run_viewer(const ViewSettings& s) {
         exit_status = fail(ok.error().message);
       } else {
         std::printf("wrote %s after %s (%s, %.1f ms, %s, %llu fallback)\n", s.screenshot.c_str(),
-                    counted(frame, "frame").c_str(), std::string(techniques[current]->name()).c_str(),
-                    smoothed_ms, counted(stats.triangles, "triangle").c_str(),
+                    counted(frame, "frame").c_str(),
+                    std::string(techniques[current]->name()).c_str(), smoothed_ms,
+                    counted(stats.triangles, "triangle").c_str(),
                     (unsigned long long)techniques[current]->fallback_frames());
       }
       w.close();
@@ -286,7 +289,8 @@ int run_viewer(const ViewSettings& s) {
   ImGui::DestroyContext();
   if (!s.record.empty() && exit_status == 0) {
     if (auto ok = write_camera_path(recorded, s.record); !ok) return fail(ok.error().message);
-    std::printf("recorded %s into %s\n", counted(recorded.frames.size(), "frame").c_str(), s.record.c_str());
+    std::printf("recorded %s into %s\n", counted(recorded.frames.size(), "frame").c_str(),
+                s.record.c_str());
   }
   return exit_status;
 }

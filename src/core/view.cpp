@@ -19,7 +19,9 @@ glm::vec3 CameraPose::right() const {
   return {-std::sin(yaw), 0.0f, std::cos(yaw)};
 }
 
-glm::vec3 CameraPose::up() const { return glm::cross(right(), forward()); }
+glm::vec3 CameraPose::up() const {
+  return glm::cross(right(), forward());
+}
 
 float View::vfov_deg() const {
   const float half = std::atan(std::tan(glm::radians(hfov_deg) * 0.5f) / aspect());

@@ -54,8 +54,7 @@ Result<void> check_options(const BenchOptions& o, const CameraPath& path) {
     return make_error("--width and --height must be within 16..16384 (got ",
                       std::to_string(o.width), "x", std::to_string(o.height), ")");
   if (!(o.hfov_deg > 1.0f && o.hfov_deg < 179.0f))
-    return make_error("--hfov must be within (1, 179) degrees (got ", number_text(o.hfov_deg),
-                      ")");
+    return make_error("--hfov must be within (1, 179) degrees (got ", number_text(o.hfov_deg), ")");
   if (path.frames.empty()) return make_error("the camera path has no frames");
   if (o.techniques.empty()) return make_error("--technique names no technique");
   if (!(o.budget_ms >= 0.0 && o.budget_ms <= 10000.0))
@@ -95,7 +94,8 @@ void remove_earlier_outputs(const std::string& dir) {
                              name.size() >= at + 10 &&
                              std::all_of(name.begin() + at + 6, name.begin() + at + 10,
                                          [](char c) { return c >= '0' && c <= '9'; });
-    if (entry.is_regular_file(ec) && (frame_image || name == "bench.json" || name == "frame_times.png"))
+    if (entry.is_regular_file(ec) &&
+        (frame_image || name == "bench.json" || name == "frame_times.png"))
       std::filesystem::remove(entry.path(), ec);
   }
 }

@@ -146,12 +146,14 @@ std::string format_bench_summary(const BenchReport& report) {
     }
     out += "\n";
   }
-  out += "psnr_db: mean over the compared frames that differ from brute's; identical: compared "
-         "frames equal to brute's, pixel for pixel; fallback: frames a technique drew as plain "
-         "geometry (outside its bake; docs/bench.md)\n";
+  out +=
+      "psnr_db: mean over the compared frames that differ from brute's; identical: compared "
+      "frames equal to brute's, pixel for pixel; fallback: frames a technique drew as plain "
+      "geometry (outside its bake; docs/bench.md)\n";
   if (fell_back)
-    out += "(most): the technique fell back on most frames, so its figures are mostly plain "
-           "geometry's, not the technique's\n";
+    out +=
+        "(most): the technique fell back on most frames, so its figures are mostly plain "
+        "geometry's, not the technique's\n";
   return out;
 }
 

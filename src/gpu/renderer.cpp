@@ -84,9 +84,9 @@ struct Renderer::State {
   int frame_width = 0, frame_height = 0;  // of the last frame drawn, for capture()
   uint32_t index_count = 0;
   std::vector<SceneChunk> chunk_ranges;  // chunks[i].range, for chunk_of
-  uint32_t white_material = 0;        // after the scene's materials, for draw_everything_at_once
-  size_t indirect_capacity = 0;       // in commands
-  std::vector<DrawCommand> commands;  // staging, capacity kept between frames
+  uint32_t white_material = 0;           // after the scene's materials, for draw_everything_at_once
+  size_t indirect_capacity = 0;          // in commands
+  std::vector<DrawCommand> commands;     // staging, capacity kept between frames
   bool has_timer = false;
   float clear_alpha = 1.0f;
 
@@ -96,7 +96,8 @@ struct Renderer::State {
       glDeleteBuffers(2, chunk_buffers);
       glDeleteVertexArrays(1, &c.vao);
     }
-    const GLuint buffers[] = {material_buffer, indirect_buffer, stream_buffer, quad_buffer, line_buffer};
+    const GLuint buffers[] = {material_buffer, indirect_buffer, stream_buffer, quad_buffer,
+                              line_buffer};
     glDeleteBuffers(5, buffers);
     const GLuint vaos[] = {vao, quad_vao, line_vao};
     glDeleteVertexArrays(3, vaos);
@@ -124,10 +125,12 @@ struct Renderer::State {
         const size_t c = chunk_of(chunk_ranges, at);
         const SceneChunk& chunk = chunks[c].range;
         const uint32_t stop = std::min(end, chunk.first_index + chunk.index_count);
-        FF_ASSERT(at >= chunk.first_index && stop > at, "range [%u, %u) outside every chunk", at, end);
+        FF_ASSERT(at >= chunk.first_index && stop > at, "range [%u, %u) outside every chunk", at,
+                  end);
         if (batches.empty() || batches.back().chunk != c)
           batches.push_back({c, commands.size(), 0});
-        commands.push_back({stop - at, 1, at - chunk.first_index, -GLint(chunk.first_vertex), r.material});
+        commands.push_back(
+            {stop - at, 1, at - chunk.first_index, -GLint(chunk.first_vertex), r.material});
         batches.back().count++;
         at = stop;
       }
@@ -137,9 +140,10 @@ struct Renderer::State {
   void draw_scene_batches(const std::vector<SceneBatch>& batches) {
     for (const SceneBatch& b : batches) {
       glBindVertexArray(chunks[b.chunk].vao);
-      glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                                  reinterpret_cast<const void*>(b.first_command * sizeof(DrawCommand)),
-                                  GLsizei(b.count), 0);
+      glMultiDrawElementsIndirect(
+          GL_TRIANGLES, GL_UNSIGNED_INT,
+          reinterpret_cast<const void*>(b.first_command * sizeof(DrawCommand)), GLsizei(b.count),
+          0);
     }
     glBindVertexArray(vao);
   }
@@ -410,11 +414,13 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
   for (const SceneChunk& range : s.chunk_ranges) {
     State::Chunk& c = s.chunks.emplace_back();
     c.range = range;
-    if (auto made = make_buffer(c.vertex_buffer, "vertex buffer", size_t(range.vertex_count) * sizeof(Vertex),
+    if (auto made = make_buffer(c.vertex_buffer, "vertex buffer",
+                                size_t(range.vertex_count) * sizeof(Vertex),
                                 scene.vertices.data() + range.first_vertex, 0);
         !made)
       return made.error();
-    if (auto made = make_buffer(c.index_buffer, "index buffer", size_t(range.index_count) * sizeof(uint32_t),
+    if (auto made = make_buffer(c.index_buffer, "index buffer",
+                                size_t(range.index_count) * sizeof(uint32_t),
                                 scene.indices.data() + range.first_index, 0);
         !made)
       return made.error();
@@ -425,7 +431,8 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
     glVertexArrayBindingDivisor(c.vao, 1, 1);
     glVertexArrayElementBuffer(c.vao, c.index_buffer);
     set_attribute(c.vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
-    set_attribute(c.vao, kNormalAttrib, 4, GL_INT_2_10_10_10_REV, GL_TRUE, offsetof(Vertex, normal));
+    set_attribute(c.vao, kNormalAttrib, 4, GL_INT_2_10_10_10_REV, GL_TRUE,
+                  offsetof(Vertex, normal));
     set_attribute(c.vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(Vertex, color));
     set_attribute(c.vao, kMaterialAttrib, 4, GL_FLOAT, GL_FALSE, 0, 1);  // per instance
   }

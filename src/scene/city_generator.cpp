@@ -479,12 +479,12 @@ void CityWriter::segment(const glm::vec2& c, float hx, float hz, int sides, floa
 
 namespace {
 
-
 Result<void> check_size(const char* option, double v, double most) {
   if (!std::isfinite(v) || v <= 0.0)
     return make_error(option, " must be > 0 (got ", number_text(v), ")");
   if (v > most)
-    return make_error(option, " must be at most ", number_text(most), " (got ", number_text(v), ")");
+    return make_error(option, " must be at most ", number_text(most), " (got ", number_text(v),
+                      ")");
   return {};
 }
 
@@ -540,7 +540,8 @@ Result<void> validate_city_options(const CityOptions& o) {
     return make_error("--curb-width must be less than half the block (", number_text(half_block),
                       " m) (got ", number_text(o.curb_width), ")");
   if (o.tree_distance < 1.0)
-    return make_error("--tree-distance must be at least 1 m (got ", number_text(o.tree_distance), ")");
+    return make_error("--tree-distance must be at least 1 m (got ", number_text(o.tree_distance),
+                      ")");
   if (o.target_triangles > kMostTargetTriangles)
     return make_error("--target-triangles must be at most ", std::to_string(kMostTargetTriangles),
                       " (got ", std::to_string(o.target_triangles), ")");
@@ -608,9 +609,9 @@ Result<Scene> generate_city(const CityOptions& options, Progress& progress) {
                          total.triangles * 3 * sizeof(uint32_t) + total.name_bytes;
   const uint64_t memory = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE));
   if (bytes > memory)
-    return make_error("the city would have ", std::to_string(total.triangles), " triangles and need ",
-                      number_text(double(bytes) / 1e9), " GB of memory, more than this machine's ",
-                      number_text(double(memory) / 1e9),
+    return make_error("the city would have ", std::to_string(total.triangles),
+                      " triangles and need ", number_text(double(bytes) / 1e9),
+                      " GB of memory, more than this machine's ", number_text(double(memory) / 1e9),
                       " GB; use fewer --blocks-x/--blocks-z or a lower --target-triangles");
 
   // Pass 2: write it.

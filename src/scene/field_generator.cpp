@@ -10,8 +10,8 @@ namespace farfield {
 Result<void> validate_field_options(const FieldOptions& o) {
   if (o.count == 0) return make_error("--count must be at least 1");
   if (!(std::isfinite(o.spacing) && o.spacing > 0.0))
-    return make_error("--spacing must be a positive number of metres (got ",
-                      number_text(o.spacing), ")");
+    return make_error("--spacing must be a positive number of metres (got ", number_text(o.spacing),
+                      ")");
   if (o.spacing > 1e7) return make_error("--spacing of ", number_text(o.spacing), " m is absurd");
   return {};
 }
@@ -19,7 +19,8 @@ Result<void> validate_field_options(const FieldOptions& o) {
 Result<Scene> generate_field(const Scene& model, const FieldOptions& o, Progress& progress) {
   if (auto ok = validate_field_options(o); !ok) return ok.error();
   if (model.triangle_count() == 0) return make_error("the model has no triangles");
-  if (o.count >= UINT32_MAX || o.count * model.vertices.size() >= UINT32_MAX || o.count * model.indices.size() >= UINT32_MAX)
+  if (o.count >= UINT32_MAX || o.count * model.vertices.size() >= UINT32_MAX ||
+      o.count * model.indices.size() >= UINT32_MAX)
     return make_error("--count ", std::to_string(o.count), " copies of a model of ",
                       std::to_string(model.triangle_count()),
                       " triangles exceed 2^32 vertices or indices");

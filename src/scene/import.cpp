@@ -552,7 +552,8 @@ Result<void> import_model(const std::string& path, Scene& scene, const ImportOpt
   if (options.up != 'y' && options.up != 'z')
     return make_error("--up must be y or z (got ", std::string(1, options.up), ")");
   if (!(std::isfinite(options.scale) && options.scale > 0.0 && options.scale <= 1e6))
-    return make_error("--scale must be a number in (0, 1e6] (got ", number_text(options.scale), ")");
+    return make_error("--scale must be a number in (0, 1e6] (got ", number_text(options.scale),
+                      ")");
   if (auto r = check_file(path); !r) return r;
   {
     const MappedFile file(path);

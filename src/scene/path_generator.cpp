@@ -39,7 +39,6 @@ double cross(dvec2 a, dvec2 b) {
   return a.x * b.y - a.y * b.x;
 }
 
-
 // ---- The street network. -------------------------------------------------------------------
 
 struct Rect {  // in XZ
@@ -394,7 +393,8 @@ CameraPose looking_at(const glm::dvec3& eye, const glm::dvec3& target) {
 CameraPath fly_path(const Scene& scene, const PathOptions& o) {
   const glm::dvec3 c(scene.bounds.center()), size(scene.bounds.size());
   const double extent = std::max({size.x, size.z, 1e-3});
-  const double a = std::max(0.35 * size.x, 0.05 * extent), b = std::max(0.35 * size.z, 0.05 * extent);
+  const double a = std::max(0.35 * size.x, 0.05 * extent),
+               b = std::max(0.35 * size.z, 0.05 * extent);
   const double y = scene.bounds.max.y + 0.25 * extent;
   // Arc length along the ellipse, tabulated, so frames are evenly spaced in metres.
   constexpr int kSteps = 4096;

@@ -25,10 +25,10 @@ namespace {
 constexpr char kMagic[8] = {'F', 'F', 'S', 'C', 'E', 'N', 'E', '\0'};
 constexpr uint64_t kAlignment = 64;
 enum Section { kObjects, kMaterials, kVertices, kIndices, kNames, kSectionCount };
-constexpr const char* kSectionNames[kSectionCount] = {"objects", "materials", "vertices",
-                                                      "indices", "names"};
-constexpr uint64_t kElementSize[kSectionCount] = {sizeof(Object), sizeof(Material),
-                                                  sizeof(Vertex), sizeof(uint32_t), 1};
+constexpr const char* kSectionNames[kSectionCount] = {"objects", "materials", "vertices", "indices",
+                                                      "names"};
+constexpr uint64_t kElementSize[kSectionCount] = {sizeof(Object), sizeof(Material), sizeof(Vertex),
+                                                  sizeof(uint32_t), 1};
 
 struct SectionEntry {
   uint64_t offset;
@@ -48,15 +48,22 @@ struct Header {
 };
 static_assert(sizeof(Header) == 176);
 
-uint64_t align_up(uint64_t v) { return (v + kAlignment - 1) / kAlignment * kAlignment; }
+uint64_t align_up(uint64_t v) {
+  return (v + kAlignment - 1) / kAlignment * kAlignment;
+}
 
 std::span<const std::byte> section_bytes(const Scene& s, int section) {
   switch (section) {
-    case kObjects: return std::as_bytes(std::span(s.objects));
-    case kMaterials: return std::as_bytes(std::span(s.materials));
-    case kVertices: return std::as_bytes(std::span(s.vertices));
-    case kIndices: return std::as_bytes(std::span(s.indices));
-    default: return std::as_bytes(std::span(s.names.data(), s.names.size()));
+    case kObjects:
+      return std::as_bytes(std::span(s.objects));
+    case kMaterials:
+      return std::as_bytes(std::span(s.materials));
+    case kVertices:
+      return std::as_bytes(std::span(s.vertices));
+    case kIndices:
+      return std::as_bytes(std::span(s.indices));
+    default:
+      return std::as_bytes(std::span(s.names.data(), s.names.size()));
   }
 }
 
@@ -93,16 +100,16 @@ Result<void> check_header(const Header& h, uint64_t file_size, const std::string
     return make_error(name, ": corrupted .ffscene header (checksum mismatch)");
   if (h.file_size != file_size) {
     if (file_size < h.file_size)
-      return make_error(name, ": truncated .ffscene file (", std::to_string(file_size),
-                        " of ", std::to_string(h.file_size), " bytes)");
+      return make_error(name, ": truncated .ffscene file (", std::to_string(file_size), " of ",
+                        std::to_string(h.file_size), " bytes)");
     return make_error(name, ": .ffscene file has ", std::to_string(file_size - h.file_size),
                       " unexpected trailing bytes");
   }
   uint64_t end = sizeof(Header);
   for (int s = 0; s < kSectionCount; ++s) {
     const SectionEntry& e = h.sections[s];
-    if (e.count > (uint64_t(1) << 40) / kElementSize[s] || e.offset < end ||
-        e.offset > file_size || e.count * kElementSize[s] > file_size - e.offset)
+    if (e.count > (uint64_t(1) << 40) / kElementSize[s] || e.offset < end || e.offset > file_size ||
+        e.count * kElementSize[s] > file_size - e.offset)
       return make_error(name, ": corrupted .ffscene file (", kSectionNames[s],
                         " section out of bounds)");
     end = e.offset + e.count * kElementSize[s];
@@ -153,7 +160,8 @@ Result<void> write_scene(const Scene& scene, const std::string& path) {
   uint64_t offset = align_up(sizeof(Header));
   for (int s = 0; s < kSectionCount; ++s) {
     const auto bytes = section_bytes(scene, s);
-    h.sections[s] = {offset, bytes.size() / kElementSize[s], XXH3_64bits(bytes.data(), bytes.size())};
+    h.sections[s] = {offset, bytes.size() / kElementSize[s],
+                     XXH3_64bits(bytes.data(), bytes.size())};
     offset = align_up(offset + bytes.size());
   }
   h.file_size = offset;

@@ -38,7 +38,6 @@ Rng stream(uint64_t seed, uint64_t which) {
   return Rng(splitmix64(state));
 }
 
-
 // ---- The L-system. -------------------------------------------------------------------------
 
 bool is_letter(char c) {
@@ -284,8 +283,8 @@ void add_leaves(SceneBuilder& b, const LeafSite& site, const TreeOptions& o, flo
 
 Result<void> check_range(const char* option, double v, double lo, double hi, bool open_lo) {
   if (!(open_lo ? v > lo : v >= lo) || !(v <= hi))  // also rejects NaN
-    return make_error(option, " must be in ", open_lo ? "(" : "[", number_text(lo), ", ", number_text(hi),
-                      "] (got ", number_text(v), ")");
+    return make_error(option, " must be in ", open_lo ? "(" : "[", number_text(lo), ", ",
+                      number_text(hi), "] (got ", number_text(v), ")");
   return {};
 }
 

@@ -14,7 +14,8 @@ namespace {
 uint32_t children_overlapped(const Bounds3& cube, const Bounds3& box) {
   const glm::vec3 mid = cube.center();
   uint32_t axis_halves[3];  // per axis: bit 0 the lower half, bit 1 the upper half
-  for (int a = 0; a < 3; ++a) axis_halves[a] = uint32_t(box.min[a] < mid[a]) | uint32_t(box.max[a] >= mid[a]) << 1;
+  for (int a = 0; a < 3; ++a)
+    axis_halves[a] = uint32_t(box.min[a] < mid[a]) | uint32_t(box.max[a] >= mid[a]) << 1;
   uint32_t mask = 0;
   for (int child = 0; child < 8; ++child)
     if ((axis_halves[0] >> (child & 1) & 1) && (axis_halves[1] >> (child >> 1 & 1) & 1) &&
@@ -100,7 +101,9 @@ Octree build_octree(std::span<const Bounds3> object_bounds, const OctreeOptions&
   Bounds3 all;
   std::vector<uint32_t> objects;
   for (uint32_t i = 0; i < object_bounds.size(); ++i) {
-    if (object_bounds[i].empty() || (!options.root.empty() && !meet(options.root, object_bounds[i]))) continue;
+    if (object_bounds[i].empty() ||
+        (!options.root.empty() && !meet(options.root, object_bounds[i])))
+      continue;
     all.expand(object_bounds[i]);
     objects.push_back(i);
   }
@@ -110,7 +113,8 @@ Octree build_octree(std::span<const Bounds3> object_bounds, const OctreeOptions&
     root.bounds = options.root;
   } else {
     // The bounding cube: equal subvolumes at every level (paper 004, Sec. 2.1).
-    const float half = 0.5f * std::max({all.size().x, all.size().y, all.size().z}) * 1.0001f + 1e-6f;
+    const float half =
+        0.5f * std::max({all.size().x, all.size().y, all.size().z}) * 1.0001f + 1e-6f;
     root.bounds.min = all.center() - glm::vec3(half);
     root.bounds.max = all.center() + glm::vec3(half);
   }

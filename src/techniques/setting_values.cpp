@@ -11,7 +11,6 @@ namespace farfield {
 
 namespace {
 
-
 bool in_choices(std::string_view choices, std::string_view value) {
   for (size_t begin = 0; begin <= choices.size();) {
     size_t end = choices.find('|', begin);

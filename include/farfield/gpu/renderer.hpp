@@ -1,9 +1,10 @@
 // Draws a Scene's DrawLists with OpenGL 4.5 core. The whole scene lives in GPU buffers of at
-// most 1 GiB each (scene_chunks.hpp); a DrawList becomes multi-draw-indirect commands, opaque ranges first,
-// then transparent ranges blended without depth writes. Technique meshes and textures are
-// made through the Device interface and named by handle in the lists. Shading: paper 000, Sec. 5.3,
-// two directional lights opposite each other 14 degrees above the horizon, plus ambient; colour =
-// vertex colour x material base colour. Depth: reversed-Z float buffer (View's projection).
+// most 1 GiB each (scene_chunks.hpp); a DrawList becomes multi-draw-indirect commands, opaque
+// ranges first, then transparent ranges blended without depth writes. Technique meshes and textures
+// are made through the Device interface and named by handle in the lists. Shading: paper 000,
+// Sec. 5.3, two directional lights opposite each other 14 degrees above the horizon, plus ambient;
+// colour = vertex colour x material base colour. Depth: reversed-Z float buffer (View's
+// projection).
 //
 // Needs a current Context. Not thread-safe.
 #pragma once

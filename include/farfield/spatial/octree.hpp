@@ -19,17 +19,17 @@
 namespace farfield {
 
 struct OctreeOptions {
-  uint32_t max_depth = 12;        // levels below the root
-  uint32_t objects_per_leaf = 8;  // a node holding more is split
+  uint32_t max_depth = 12;          // levels below the root
+  uint32_t objects_per_leaf = 8;    // a node holding more is split
   bool split_to_max_depth = false;  // split every node down to max_depth, whatever it holds
-  Bounds3 root;  // the cube to subdivide; empty: the items' bounding cube
+  Bounds3 root;                     // the cube to subdivide; empty: the items' bounding cube
 };
 
 struct OctreeNode {
-  Bounds3 bounds;             // the node's cube, not its objects' bounds
-  uint32_t first_child = 0;   // index of the first child in `nodes`; children are contiguous
-  uint32_t child_count = 0;   // 0 for a leaf
-  uint32_t items_begin = 0;   // the objects below this node: items[items_begin, items_end)
+  Bounds3 bounds;            // the node's cube, not its objects' bounds
+  uint32_t first_child = 0;  // index of the first child in `nodes`; children are contiguous
+  uint32_t child_count = 0;  // 0 for a leaf
+  uint32_t items_begin = 0;  // the objects below this node: items[items_begin, items_end)
   uint32_t items_end = 0;
   bool leaf() const { return child_count == 0; }
 };

@@ -154,7 +154,8 @@ namespace {
 Result<void> check_cubes_drawable(const Scene& scene, const ColorcubeOptions& o) {
   const glm::vec3 size = scene.bounds.size();
   const double side = std::max({double(size.x), double(size.y), double(size.z)});
-  const int depth = o.tree.depth > 0 ? o.tree.depth : derived_depth(scene, o.tree.triangles_per_leaf);
+  const int depth =
+      o.tree.depth > 0 ? o.tree.depth : derived_depth(scene, o.tree.triangles_per_leaf);
   const double leaf_cube = side / double(1 << depth) / o.tree.leaf.cluster;
   const double epsilon = o.pixel_tolerance * 2.0 / 1024.0;  // tan(45 degrees) = 1
   const double radius = 0.5 * glm::length(glm::dvec3(size));
@@ -390,10 +391,11 @@ std::string ColorcubeTechnique::describe() const {
   const CubeTreeStats& s = tree_.stats;
   char line[256];
   std::snprintf(line, sizeof(line),
-                "%u cells (%u leaves), depth %u (%u levels with the root), cluster %ux%ux%u, oversampling %ux%u, %llu cube "
+                "%u cells (%u leaves), depth %u (%u levels with the root), cluster %ux%ux%u, "
+                "oversampling %ux%u, %llu cube "
                 "faces (%llu inner ones dropped), %llu leaf triangles, bake %.2f s + %.2f s",
-                s.cells, s.leaves, s.levels - 1, s.levels, s.cluster, s.cluster, s.cluster, s.oversampling,
-                s.oversampling, (unsigned long long)s.cube_faces,
+                s.cells, s.leaves, s.levels - 1, s.levels, s.cluster, s.cluster, s.cluster,
+                s.oversampling, s.oversampling, (unsigned long long)s.cube_faces,
                 (unsigned long long)s.inner_faces_dropped, (unsigned long long)s.geometry_triangles,
                 s.leaf_bake_s, s.hierarchy_s);
   return line;

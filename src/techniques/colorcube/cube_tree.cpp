@@ -29,18 +29,19 @@ Bounds3 bounding_cube(const Bounds3& b) {
 // in; empty cells are pruned), built by spatial/octree over the triangles' boxes; each leaf
 // also owns, by centroid, the triangles it draws as geometry.
 struct Subdivision {
-  std::vector<uint32_t> items;                          // the octree's leaf items
+  std::vector<uint32_t> items;                            // the octree's leaf items
   std::vector<std::span<const uint32_t>> leaf_triangles;  // overlapping, by leaf order
-  std::vector<std::vector<uint32_t>> leaf_owned;        // centroid inside, by leaf order
-  std::vector<uint32_t> leaf_cells;                     // cell of each leaf, depth first
+  std::vector<std::vector<uint32_t>> leaf_owned;          // centroid inside, by leaf order
+  std::vector<uint32_t> leaf_cells;                       // cell of each leaf, depth first
 };
 
 Subdivision subdivide(const Scene& scene, int depth, CubeTree& tree) {
   std::vector<Bounds3> boxes(scene.triangle_count());
   for (size_t t = 0; t < boxes.size(); ++t)
     for (int k = 0; k < 3; ++k) boxes[t].expand(scene.vertices[scene.indices[t * 3 + k]].position);
-  Octree octree = build_octree(
-      boxes, {.max_depth = uint32_t(depth), .split_to_max_depth = true, .root = bounding_cube(scene.bounds)});
+  Octree octree = build_octree(boxes, {.max_depth = uint32_t(depth),
+                                       .split_to_max_depth = true,
+                                       .root = bounding_cube(scene.bounds)});
   boxes = {};
   tree.cells.resize(octree.nodes.size());
   for (size_t i = 0; i < octree.nodes.size(); ++i) {
@@ -49,7 +50,8 @@ Subdivision subdivide(const Scene& scene, int depth, CubeTree& tree) {
     cell.bounds = node.bounds;
     cell.first_child = node.first_child;
     cell.child_count = node.child_count;
-    for (uint32_t k = 0; k < node.child_count; ++k) tree.cells[node.first_child + k].level = cell.level + 1;
+    for (uint32_t k = 0; k < node.child_count; ++k)
+      tree.cells[node.first_child + k].level = cell.level + 1;
   }
   Subdivision out;
   out.items = std::move(octree.items);
@@ -61,13 +63,15 @@ Subdivision subdivide(const Scene& scene, int depth, CubeTree& tree) {
   });
   for (uint32_t leaf : out.leaf_cells) {
     const OctreeNode& node = octree.nodes[leaf];
-    const std::span<const uint32_t> triangles(out.items.data() + node.items_begin, node.items_end - node.items_begin);
+    const std::span<const uint32_t> triangles(out.items.data() + node.items_begin,
+                                              node.items_end - node.items_begin);
     // Ownership by centroid, half-open per axis, so every triangle has exactly one owner.
     std::vector<uint32_t> owned;
     for (uint32_t t : triangles) {
       const uint32_t* idx = scene.indices.data() + size_t(t) * 3;
       const glm::vec3 c = (scene.vertices[idx[0]].position + scene.vertices[idx[1]].position +
-                           scene.vertices[idx[2]].position) / 3.0f;
+                           scene.vertices[idx[2]].position) /
+                          3.0f;
       if (c.x >= node.bounds.min.x && c.x < node.bounds.max.x && c.y >= node.bounds.min.y &&
           c.y < node.bounds.max.y && c.z >= node.bounds.min.z && c.z < node.bounds.max.z)
         owned.push_back(t);
@@ -112,7 +116,8 @@ int derived_depth(const Scene& scene, int triangles_per_leaf) {
     for (uint64_t t = 0; t < n; ++t) {
       const uint32_t* idx = scene.indices.data() + t * 3;
       const glm::vec3 c = (scene.vertices[idx[0]].position + scene.vertices[idx[1]].position +
-                           scene.vertices[idx[2]].position) / 3.0f;
+                           scene.vertices[idx[2]].position) /
+                          3.0f;
       const glm::uvec3 g = glm::clamp(glm::uvec3((c - cube.min) * scale), glm::uvec3(0),
                                       glm::uvec3(uint32_t(cells) - 1));
       keys[t] = (uint64_t(g.x) << 40) | (uint64_t(g.y) << 20) | g.z;
@@ -125,9 +130,11 @@ int derived_depth(const Scene& scene, int triangles_per_leaf) {
 }
 
 Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, Progress& progress) {
-  if (o.depth < 0 || o.depth > 12) return make_error("depth must be within 0..12 (got ", std::to_string(o.depth), ")");
+  if (o.depth < 0 || o.depth > 12)
+    return make_error("depth must be within 0..12 (got ", std::to_string(o.depth), ")");
   if (o.leaf.oversampling < 1 || o.leaf.oversampling > 5)
-    return make_error("oversampling must be within 1..5 (got ", std::to_string(o.leaf.oversampling), ")");
+    return make_error("oversampling must be within 1..5 (got ", std::to_string(o.leaf.oversampling),
+                      ")");
   if (o.leaf.cluster < 1 || o.leaf.cluster > 32)
     return make_error("cluster must be within 1..32 (got ", std::to_string(o.leaf.cluster), ")");
   if (!(o.coverage_threshold >= 0.0f && o.coverage_threshold < 1.0f))
@@ -153,7 +160,8 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
       std::copy(baked.begin(), baked.end(), cubes.begin() + size_t(cell) * per_cell);
     }
   };
-  const unsigned threads = o.threads > 0 ? unsigned(o.threads) : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned threads =
+      o.threads > 0 ? unsigned(o.threads) : std::max(1u, std::thread::hardware_concurrency());
   progress.start("bake colour-cube leaves", leaves);
   std::vector<std::thread> pool;
   for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work);
@@ -187,11 +195,13 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
         for (int px = 0; px < c; ++px) {
           std::array<ColorCube, 8> parts{};
           for (int sub = 0; sub < 8; ++sub) {
-            const int g[3] = {2 * px + (sub & 1), 2 * py + ((sub >> 1) & 1), 2 * pz + ((sub >> 2) & 1)};
+            const int g[3] = {2 * px + (sub & 1), 2 * py + ((sub >> 1) & 1),
+                              2 * pz + ((sub >> 2) & 1)};
             const int oct = (g[0] / c) | (g[1] / c) << 1 | (g[2] / c) << 2;
             if (child_of_octant[oct] < 0) continue;
             const int l[3] = {g[0] % c, g[1] % c, g[2] % c};
-            parts[sub] = cubes[size_t(child_of_octant[oct]) * per_cell + l[0] + c * (l[1] + c * l[2])];
+            parts[sub] =
+                cubes[size_t(child_of_octant[oct]) * per_cell + l[0] + c * (l[1] + c * l[2])];
           }
           cubes[i * per_cell + px + c * (py + c * pz)] = combine(parts);
         }
@@ -253,21 +263,24 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
     std::vector<int32_t> material_of(local.size(), -1);
     for (uint32_t t : split.leaf_owned[l])
       for (int k = 0; k < 3; ++k) {
-        const size_t at = size_t(std::lower_bound(local.begin(), local.end(),
-                                                  scene.indices[size_t(t) * 3 + k]) - local.begin());
+        const size_t at =
+            size_t(std::lower_bound(local.begin(), local.end(), scene.indices[size_t(t) * 3 + k]) -
+                   local.begin());
         material_of[at] = int32_t(materials[t]);
       }
     for (size_t i = 0; i < local.size(); ++i) {
       const Vertex& v = scene.vertices[local[i]];
       const glm::vec4 tint = scene.materials[uint32_t(material_of[i])].base_color;
-      const glm::vec3 lit = gpu::shade(unpack_normal(v.normal), glm::vec3(unpack_color(v.color)) * glm::vec3(tint));
+      const glm::vec3 lit =
+          gpu::shade(unpack_normal(v.normal), glm::vec3(unpack_color(v.color)) * glm::vec3(tint));
       tree.proxies.vertices.push_back({v.position, pack_color(glm::vec4(lit, tint.a))});
     }
     for (uint32_t t : split.leaf_owned[l])
       for (int k = 0; k < 3; ++k)
-        tree.proxies.indices.push_back(
-            base + uint32_t(std::lower_bound(local.begin(), local.end(), scene.indices[size_t(t) * 3 + k]) -
-                            local.begin()));
+        tree.proxies.indices.push_back(base +
+                                       uint32_t(std::lower_bound(local.begin(), local.end(),
+                                                                 scene.indices[size_t(t) * 3 + k]) -
+                                                local.begin()));
     cell.geometry_count = uint32_t(tree.proxies.indices.size()) - cell.geometry_begin;
     cell.reach = cell.bounds;
     for (uint32_t v : local) cell.reach.expand(scene.vertices[v].position);
@@ -279,10 +292,12 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
     CubeCell& cell = tree.cells[i];
     if (cell.leaf()) continue;
     cell.reach = cell.bounds;
-    for (uint32_t k = 0; k < cell.child_count; ++k) cell.reach.expand(tree.cells[cell.first_child + k].reach);
+    for (uint32_t k = 0; k < cell.child_count; ++k)
+      cell.reach.expand(tree.cells[cell.first_child + k].reach);
   }
   if (tree.proxies.vertices.size() >= UINT32_MAX)
-    return make_error("the colour-cube model needs more than 2^32 proxy vertices; lower the depth or cluster");
+    return make_error(
+        "the colour-cube model needs more than 2^32 proxy vertices; lower the depth or cluster");
   tree.stats.hierarchy_s = std::chrono::duration<double>(Clock::now() - phase2).count();
   tree.stats.cells = uint32_t(tree.cells.size());
   tree.stats.leaves = uint32_t(leaves);

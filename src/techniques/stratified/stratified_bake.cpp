@@ -134,8 +134,9 @@ Result<Bounds3> bake_region(const StratifiedOptions& o, const Scene& scene,
     for (const CameraPose& p : path->frames) walked.expand(p.position);
   across.expand(walked);
   if (o.band != "auto") return navigable_region(o.band, across);
-  const bool streets = std::any_of(scene.objects.begin(), scene.objects.end(),
-                                   [](const Object& obj) { return obj.kind == ObjectKind::street; });
+  const bool streets =
+      std::any_of(scene.objects.begin(), scene.objects.end(),
+                  [](const Object& obj) { return obj.kind == ObjectKind::street; });
   auto street = navigable_region("street", across);
   if (!street) return street;
   const bool path_in_street =
@@ -379,12 +380,12 @@ Result<void> StratifiedTechnique::bake(const BakeContext& context) {
   if (error.empty()) error = writer.error();
   if (!error.empty()) return make_error(error);
   bake_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::fprintf(stderr, "stratified: baked %llu viewcells (v %.2f m, box %.0f m) in %.1f s\n",
+  std::fprintf(stderr, "stratified: baked %llu viewcells (v %.3g m, box %.3g m) in %.1f s\n",
                (unsigned long long)writer.written(), params.shells[0].viewcell,
                params.shells[0].box, bake_s_);
   char summary[200];
   std::snprintf(summary, sizeof summary,
-                "%llu viewcells baked now, %llu in the pack; v %.2f m, box %.0f m, alpha %.2f deg, "
+                "%llu viewcells baked now, %llu in the pack; v %.3g m, box %.3g m, alpha %.2f deg, "
                 "%d px %s, %zu shell(s)",
                 (unsigned long long)writer.written(),
                 (unsigned long long)(already + writer.written()), params.shells[0].viewcell,

@@ -243,7 +243,8 @@ Result<Bounds3> navigable_region(const std::string& band, const Bounds3& scene) 
   }
   auto v = numbers("band", band, 2);
   if (!v)
-    return make_error("--set stratified.band must be auto, street, all or Y0,Y1 (got '", band, "')");
+    return make_error("--set stratified.band must be auto, street, all or Y0,Y1 (got '", band,
+                      "')");
   if (!((*v)[0] < (*v)[1]))
     return make_error("--set stratified.band=Y0,Y1 needs Y0 < Y1 (got '", band, "')");
   region.min.y = float((*v)[0]);

@@ -41,7 +41,7 @@ const TechniqueDescriptor stratified_descriptor{
         auto cells = baked_cells(store, int(s));
         if (!cells) return cells.error();
         char line[160];
-        std::snprintf(line, sizeof line, "shell %zu: %zu viewcells baked, v %.2f m, box %.1f m\n",
+        std::snprintf(line, sizeof line, "shell %zu: %zu viewcells baked, v %.3g m, box %.3g m\n",
                       s, cells->size(), params->shells[s].viewcell, params->shells[s].box);
         out += line;
       }
@@ -70,7 +70,8 @@ Result<void> StratifiedTechnique::load(const LoadContext& context) {
     return usable.error();
   auto text = store.get_meta(kParamsKey);
   if (!text) return text.error();
-  if (!*text) return make_error(store.path(), ": its stratified bake has no parameters; re-bake it");
+  if (!*text)
+    return make_error(store.path(), ": its stratified bake has no parameters; re-bake it");
   auto params = parse_params(**text);
   if (!params) return make_error(store.path(), ": ", params.error().message);
   params_ = *params;
@@ -321,7 +322,7 @@ std::string StratifiedTechnique::describe() const {
   if (shells_.empty()) return bake_summary_;
   char text[256];
   std::snprintf(text, sizeof text,
-                "%zu of %llu viewcells baked, v %.2f m, box %.0f m, alpha %.2f deg, %d px %s, "
+                "%zu of %llu viewcells baked, v %.3g m, box %.3g m, alpha %.2f deg, %d px %s, "
                 "%zu shell(s), style %s",
                 shells_[0].baked.size(), (unsigned long long)shells_[0].tree.cell_count(),
                 shells_[0].tree.viewcell(), shells_[0].tree.box(), params_.alpha_deg,

@@ -27,10 +27,10 @@ const char* style_name(Style style);
 
 struct StratifiedOptions {
   // Bake.
-  double alpha_deg = 2.0;  // alpha_max
-  double box = 0.0;        // b, metres (the innermost box with shells); 0: from the scene
+  double alpha_deg = 2.0;      // alpha_max
+  double box = 0.0;            // b, metres (the innermost box with shells); 0: from the scene
   int near_triangles = 16000;  // p of Eq. 2.3, which sizes the box when box is 0
-  double viewcell = 0.0;   // v; 0: from alpha and the box (see `paper_sizing`)
+  double viewcell = 0.0;       // v; 0: from alpha and the box (see `paper_sizing`)
   // v from paper 000's Eq. 2.2 (Eq. 4.1 with shells) rather than the strict 3D bound
   // (strict_viewcell_length), which holds for every eye point and far point.
   bool paper_sizing = false;
