@@ -20,6 +20,7 @@
 #include "farfield/gpu/window.hpp"
 #include "farfield/scene/path_generator.hpp"
 #include "farfield/scene/scene_file.hpp"
+#include "farfield/spatial/walking.hpp"
 #include "farfield/eval/frame_loop.hpp"
 #include "farfield/eval/run_plan.hpp"
 #include "farfield/store/bake_record.hpp"
@@ -155,6 +156,11 @@ int run_viewer(const ViewSettings& s) {
     if (record && *record && show(t)) start = techniques[t]->start_pose();
   }
   CameraPose pose = start ? *start : overview_pose(*scene);
+  // Walking (paper 000, Sec. 5.1): stopped short of walls, at eye height over the ground
+  // where there is ground within reach below; G flies freely.
+  const RayCaster caster(*scene);
+  const WalkOptions walk_options = walk_options_for(scene->bounds);
+  bool walking = true, g_was_down = false;
   const NavigationSpeeds speeds = speeds_for(*scene);
   bool playing = !path.frames.empty();
   size_t path_frame = 0;
@@ -177,11 +183,13 @@ int run_viewer(const ViewSettings& s) {
     if (w.key_down(GLFW_KEY_ESCAPE)) w.close();
     const bool typing = ImGui::GetIO().WantCaptureKeyboard;
     const bool tab = w.key_down(GLFW_KEY_TAB), p = w.key_down(GLFW_KEY_P),
-               b = w.key_down(GLFW_KEY_B);
+               b = w.key_down(GLFW_KEY_B), g = w.key_down(GLFW_KEY_G);
     const size_t before = current;
     if (tab && !tab_was_down && !typing) current = (current + 1) % techniques.size();
     if (p && !p_was_down && !typing && !path.frames.empty()) playing = !playing;
     if (b && !b_was_down && !typing) birdseye = !birdseye;
+    if (g && !g_was_down && !typing) walking = !walking;
+    g_was_down = g;
     tab_was_down = tab;
     p_was_down = p;
     b_was_down = b;
@@ -192,7 +200,8 @@ int run_viewer(const ViewSettings& s) {
       pose = path.frames[path_frame];
       path_frame = (path_frame + 1) % path.frames.size();
     } else if (!typing) {
-      pose = navigate(pose, keys_to_input(w), speeds, dt);
+      const CameraPose moved = navigate(pose, keys_to_input(w), speeds, dt);
+      pose = walking ? walk(caster, pose, moved, walk_options) : moved;
     }
     if (!s.record.empty()) recorded.frames.push_back(pose);
 
@@ -261,8 +270,8 @@ int run_viewer(const ViewSettings& s) {
     if (!notice.empty()) ImGui::TextWrapped("%s", notice.c_str());
     ImGui::TextDisabled(
         "W/S move  A/D turn  E/Q up/down  R/F look  Shift fast  Tab/1-9 technique"
-        "  B bird's-eye%s",
-        birdseye ? " (on)" : "");
+        "  B bird's-eye%s  G %s",
+        birdseye ? " (on)" : "", walking ? "fly (walking now)" : "walk (flying now)");
     ImGui::End();
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -303,7 +312,9 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
       "view",
       "Walk through a scene in a window. Keys: W/S or arrows forward/back, A/D turn, "
       "E/Q or PageUp/PageDown ascend/descend, R/F look up/down, Shift faster, Tab or 1-9 "
-      "switch technique, B bird's-eye view, P play/pause the path, Esc quit");
+      "switch technique, B bird's-eye view, P play/pause the path, G walk/fly, Esc quit. "
+      "Walking (the default) keeps the eye at eye height over the ground and stops it short of "
+      "walls; where there is no ground below, it flies");
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
   cmd->add_option("--path", s->path, "Camera path to play (P pauses and resumes)");
   cmd->add_option("--store", s->store, "A .ffpack from 'farfield bake' to load techniques from");

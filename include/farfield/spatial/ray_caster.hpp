@@ -1,0 +1,34 @@
+// The nearest surface along a ray through a scene's triangles, found through an octree of its
+// objects (spatial/octree.hpp): nodes and objects whose boxes the ray misses are skipped, the
+// rest tested triangle by triangle (Moller-Trumbore, both sides). For walking (ground under
+// the eye, walls ahead of it) and, later, picking and occluder queries.
+#pragma once
+
+#include <optional>
+
+#include <glm/vec3.hpp>
+
+#include "farfield/scene/scene.hpp"
+#include "farfield/spatial/octree.hpp"
+
+namespace farfield {
+
+struct RayHit {
+  float distance = 0;  // along the unit direction, metres
+  uint32_t object = 0;
+};
+
+class RayCaster {
+ public:
+  // Keeps a reference to `scene`, which must outlive it.
+  explicit RayCaster(const Scene& scene);
+  // The nearest hit within `max_distance` along `direction` (unit length) from `origin`.
+  std::optional<RayHit> cast(const glm::vec3& origin, const glm::vec3& direction,
+                             float max_distance) const;
+
+ private:
+  const Scene& scene_;
+  Octree tree_;
+};
+
+}  // namespace farfield
