@@ -69,7 +69,10 @@ TEST(Cli, MessagesNameTheProblemOnce) {
   EXPECT_NE(r.output.find(", 1 frame,"), std::string::npos) << r.output;
   r = run_farfield("bench " + quoted(dir.file("one.ffscene")) + " --path " +
                    quoted(dir.file("p.json")) + " --hfov 200 --out " + quoted(dir.file("b")));
-  EXPECT_NE(r.output.find("(got 200)"), std::string::npos) << r.output;
+  EXPECT_EQ(r.exit_status, 2);  // the same limits as view's, checked by the command line
+  EXPECT_NE(r.output.find("--hfov"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("200"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("200.000000"), std::string::npos) << r.output;
   r = run_farfield("bench " + quoted(dir.file("one.ffscene")) + " --path " +
                    quoted(dir.file("p.json")) + " --frames 5 --out " + quoted(dir.file("b")));
   EXPECT_EQ(r.exit_status, 1);

@@ -128,9 +128,10 @@ int run_single(const Settings& s, const std::optional<ThroughputBox>& from_throu
     auto cube = strict_viewcell_length(values[kAlpha], values[kBox], values[kBox]);
     auto band = strict_viewcell_length(values[kAlpha], values[kBox], 3.0);
     if (cube && band)
-      std::printf("strict 3D bound (the stratified bake's default): v = %.2f m, or %.2f m for "
-                  "a 3 m street band\n",
-                  *cube, *band);
+      std::printf(
+          "strict 3D bound (the stratified bake's default): v = %.2f m, or %.2f m for "
+          "a 3 m street band\n",
+          *cube, *band);
   }
   if (region) print_count(values[kViewcell], *region);
   return 0;

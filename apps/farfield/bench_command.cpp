@@ -3,6 +3,7 @@
 
 #include "commands.hpp"
 #include "farfield/core/camera_path.hpp"
+#include "farfield/core/view.hpp"
 #include "farfield/eval/bench.hpp"
 #include "farfield/scene/scene_file.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
@@ -40,25 +41,32 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_option("--frames", s->frames, "Play only the path's first N frames (0: all)")
       ->check(CLI::Range(size_t(0), size_t(1) << 24))
       ->capture_default_str();
-  cmd->add_option("--width", s->bench.width, "Image width, pixels")->capture_default_str();
-  cmd->add_option("--height", s->bench.height, "Image height, pixels")->capture_default_str();
+  cmd->add_option("--width", s->bench.width, "Image width, pixels")
+      ->check(CLI::Range(kMinImageSide, kMaxImageSide))
+      ->capture_default_str();
+  cmd->add_option("--height", s->bench.height, "Image height, pixels")
+      ->check(CLI::Range(kMinImageSide, kMaxImageSide))
+      ->capture_default_str();
   cmd->add_option("--hfov", s->bench.hfov_deg, "Horizontal field of view, degrees")
+      ->check(number_range(kMinHfovDeg, kMaxHfovDeg))
       ->capture_default_str();
   cmd->add_option("--warmup", s->bench.warmup_frames, "Untimed frames drawn first")
+      ->check(CLI::Range(0u, 1000u))
       ->capture_default_str();
   cmd->add_option("--reference-every", s->bench.reference_every,
                   "Compare with brute every N frames (0: sample frames only)")
       ->capture_default_str();
   cmd->add_option("--samples", s->bench.sample_images, "Frames saved as PNG per technique")
+      ->check(CLI::Range(0u, 1000u))
       ->capture_default_str();
   cmd->add_option("--birdseye", s->bench.birdseye_height,
                   "Also save a bird's-eye picture of each sample frame from this many metres "
                   "above the eye (frustum in red; stratified adds its viewcell and box)")
-      ->check(CLI::Range(0.0f, 100000.0f));
+      ->check(number_range(0, 100000));
   cmd->add_option("--budget-ms", s->bench.budget_ms,
                   "Frame-time budget for every technique, ms (0: none); techniques that hold a "
                   "frame time read it")
-      ->check(CLI::Range(0.0, 10000.0));
+      ->check(number_range(0, 10000));
   cmd->add_flag("--interleave", s->bench.interleave,
                 "Time the techniques frame by frame (frame f of each, then f+1), so that drift "
                 "on a shared machine falls on all alike; peak_rss_mb is then the process's");

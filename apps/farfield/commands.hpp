@@ -33,4 +33,8 @@ void add_techniques_command(CLI::App& root, std::vector<Command>& commands);
 int fail(const std::string& message);
 int usage_error(const std::string& message);
 
+// A range check for a number option that states its limits as written ("in [1, 179]", not
+// CLI11's "1.000000 to 179.000000").
+CLI::Validator number_range(double lo, double hi);
+
 }  // namespace farfield::cli

@@ -30,7 +30,7 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
       ->capture_default_str();
   cmd->add_option("--scale", s->options.scale,
                   "Metres per file unit, e.g. 0.001 for a model in millimetres, 0.0254 for inches")
-      ->check(CLI::Range(1e-9, 1e6))
+      ->check(number_range(1e-9, 1e6))
       ->capture_default_str();
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
   commands.push_back(

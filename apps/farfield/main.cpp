@@ -1,6 +1,7 @@
 // farfield: the command-line tool. Parses arguments, calls the library, maps the outcome to
 // an exit status (DESIGN.md, "Command line").
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 
 #include "commands.hpp"
@@ -15,6 +16,19 @@ int fail(const std::string& message) {
 int usage_error(const std::string& message) {
   std::fprintf(stderr, "farfield: %s\n", message.c_str());
   return 2;
+}
+
+CLI::Validator number_range(double lo, double hi) {
+  const std::string limits = "[" + number_text(lo) + ", " + number_text(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, limits](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !(v >= lo && v <= hi))
+          return "'" + text + "' is not a number in " + limits;
+        return {};
+      },
+      "in " + limits);
 }
 
 namespace {

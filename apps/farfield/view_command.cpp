@@ -323,24 +323,25 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
                   "Technique setting TECHNIQUE.KEY=VALUE, repeatable (e.g. colorcube.depth=6)");
   cmd->add_option("--width", s->width, "Window width, pixels")
       ->capture_default_str()
-      ->check(CLI::Range(64, 16384));
+      ->check(CLI::Range(kMinImageSide, kMaxImageSide));
   cmd->add_option("--height", s->height, "Window height, pixels")
       ->capture_default_str()
-      ->check(CLI::Range(64, 16384));
+      ->check(CLI::Range(kMinImageSide, kMaxImageSide));
   cmd->add_option("--hfov", s->hfov_deg, "Horizontal field of view, degrees")
       ->capture_default_str()
-      ->check(CLI::Range(1.0f, 179.0f));
+      ->check(number_range(kMinHfovDeg, kMaxHfovDeg));
   cmd->add_option("--frames", s->frames, "Quit after this many frames (0: run until closed)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 1 << 24))
+      ->capture_default_str();
   cmd->add_option("--screenshot", s->screenshot,
                   "Save the window (with its overlay) as PNG after --frames frames, then quit");
   cmd->add_option("--birdseye", s->birdseye_height,
                   "Start in the bird's-eye view from this many metres above the eye (B toggles; "
                   "300 m when not given)")
-      ->check(CLI::Range(0.0f, 100000.0f));
+      ->check(number_range(0, 100000));
   cmd->add_option("--budget-ms", s->budget_ms,
                   "Frame-time budget for every technique, ms (0: none); a slider changes it")
-      ->check(CLI::Range(0.0f, 10000.0f));
+      ->check(number_range(0, 10000));
   cmd->add_option("--record", s->record, "Write the poses of the session as a camera path on exit");
   commands.push_back({cmd, [s] { return run_viewer(*s); }});
 }

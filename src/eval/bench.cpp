@@ -50,11 +50,12 @@ void reset_peak_memory() {
 }
 
 Result<void> check_options(const BenchOptions& o, const CameraPath& path) {
-  if (o.width < 16 || o.height < 16 || o.width > 16384 || o.height > 16384)
+  if (o.width < kMinImageSide || o.height < kMinImageSide || o.width > kMaxImageSide ||
+      o.height > kMaxImageSide)
     return make_error("--width and --height must be within 16..16384 (got ",
                       std::to_string(o.width), "x", std::to_string(o.height), ")");
-  if (!(o.hfov_deg > 1.0f && o.hfov_deg < 179.0f))
-    return make_error("--hfov must be within (1, 179) degrees (got ", number_text(o.hfov_deg), ")");
+  if (!(o.hfov_deg >= kMinHfovDeg && o.hfov_deg <= kMaxHfovDeg))
+    return make_error("--hfov must be within [1, 179] degrees (got ", number_text(o.hfov_deg), ")");
   if (path.frames.empty()) return make_error("the camera path has no frames");
   if (o.techniques.empty()) return make_error("--technique names no technique");
   if (!(o.budget_ms >= 0.0 && o.budget_ms <= 10000.0))

@@ -37,6 +37,10 @@ struct View {
   glm::mat4 view_projection() const { return projection_matrix() * view_matrix(); }
 };
 
+// The limits every command takes for an image and its field of view (bench and view alike).
+inline constexpr int kMinImageSide = 16, kMaxImageSide = 16384;
+inline constexpr float kMinHfovDeg = 1.0f, kMaxHfovDeg = 179.0f;
+
 // The near plane for a scene of these bounds: 0.1 m for anything 10 m or more across
 // (cities, buildings), 1/100 of the size for smaller models, which 0.1 m would cut.
 float near_plane_for(const Bounds3& scene_bounds);
