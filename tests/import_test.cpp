@@ -139,6 +139,18 @@ TEST(Import, UpAxisAndScaleTurnAndSizeTheModel) {
   }
 }
 
+TEST(Import, FbxUnitsBecomeMetres) {
+  // assimp's test models (Debian's assimp-testmodels, which make installs): the same spider as
+  // OBJ (no units) and as FBX in centimetres (UnitScaleFactor 1) arrive the same size.
+  const std::string models = "/usr/share/assimp/models/";
+  if (!std::filesystem::exists(models + "FBX/spider.fbx"))
+    GTEST_SKIP() << "assimp-testmodels missing";
+  Scene obj, fbx;
+  ASSERT_TRUE(import_model(models + "OBJ/spider.obj", obj).ok());
+  ASSERT_TRUE(import_model(models + "FBX/spider.fbx", fbx).ok());
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(fbx.bounds.size()[a], obj.bounds.size()[a], 0.01f) << a;
+}
+
 TEST(Import, ObjKeepsObjectNamesAndDiffuseColours) {
   TempDir dir;
   write_obj(dir);

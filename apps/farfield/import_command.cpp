@@ -28,8 +28,10 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
                   "(many CAD, IFC and scan exports); farfield scenes are +Y up")
       ->check(CLI::IsMember({"y", "z"}))
       ->capture_default_str();
-  cmd->add_option("--scale", s->options.scale,
-                  "Metres per file unit, e.g. 0.001 for a model in millimetres, 0.0254 for inches")
+  cmd->add_option(
+         "--scale", s->options.scale,
+         "Metres per file unit, e.g. 0.001 for a model in millimetres, 0.0254 for inches; on "
+         "top of a unit the file states (FBX)")
       ->check(number_range(1e-9, 1e6))
       ->capture_default_str();
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");

@@ -546,6 +546,17 @@ Result<void> check_file(const std::string& path) {
   return {};
 }
 
+// Metres per file unit where the file says so, else 1.
+double file_unit_in_metres(const aiScene& ai) {
+  if (!ai.mMetaData) return 1.0;
+  double centimetres = 0.0;
+  float as_float = 0.0f;
+  if (!ai.mMetaData->Get("UnitScaleFactor", centimetres) &&
+      ai.mMetaData->Get("UnitScaleFactor", as_float))
+    centimetres = as_float;
+  return std::isfinite(centimetres) && centimetres > 0.0 ? centimetres / 100.0 : 1.0;
+}
+
 }  // namespace
 
 Result<void> import_model(const std::string& path, Scene& scene, const ImportOptions& options) {
@@ -570,8 +581,12 @@ Result<void> import_model(const std::string& path, Scene& scene, const ImportOpt
     return make_error(path, ": not a readable model (", importer.GetErrorString(), ")");
 
   const Snapshot before(scene);
+  // Units from the file where the format states them and assimp leaves them as they are:
+  // FBX gives centimetres per unit (UnitScaleFactor; 1, centimetres, by default), which
+  // assimp 5.2 keeps in the metadata without scaling. --scale multiplies on top.
+  const double scale = options.scale * file_unit_in_metres(*ai);
   // Z up to Y up is a quarter turn about X: (x, y, z) -> (x, z, -y).
-  glm::dmat4 root = glm::dmat4(options.scale);
+  glm::dmat4 root = glm::dmat4(scale);
   root[3][3] = 1.0;
   if (options.up == 'z') root = root * glm::dmat4(1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1);
   Result<void> r = Converter(path, *ai, scene, root).run();

@@ -17,7 +17,8 @@
 namespace farfield {
 
 // What the file does not say, or says wrongly: its up axis and its unit (a GLB in millimetres
-// has scale 0.001). Applied after the file's own transforms: rotated to +Y up, then scaled.
+// has scale 0.001). Applied after the file's own transforms and the unit the file states
+// (FBX's UnitScaleFactor): rotated to +Y up, then scaled.
 struct ImportOptions {
   char up = 'y';       // 'y' or 'z': the axis that points up in the file
   double scale = 1.0;  // metres per file unit, > 0
