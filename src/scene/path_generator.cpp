@@ -420,13 +420,20 @@ CameraPath fly_path(const Scene& scene, const PathOptions& o) {
   return path;
 }
 
+}  // namespace
+
+double whole_view_distance(const Bounds3& bounds) {
+  const double sphere = std::max(0.5 * glm::length(glm::dvec3(bounds.size())), 1e-3);
+  const double half_fov = std::atan(0.75);  // tan(45 degrees) x 3/4: the narrower, vertical
+  return 1.05 * sphere / std::sin(half_fov);
+}
+
+namespace {
+
 CameraPath orbit_path(const Scene& scene, const PathOptions& o) {
-  const glm::dvec3 c(scene.bounds.center()), size(scene.bounds.size());
-  // The bounding sphere inside the protocol's view (90 degrees wide at 4:3, so 73.7 degrees
-  // high), with 5% to spare, from 25 degrees above the horizon.
-  const double sphere = std::max(0.5 * glm::length(size), 1e-3);
-  const double half_fov = std::atan(0.75);  // tan(45 degrees) x 3/4
-  const double distance = 1.05 * sphere / std::sin(half_fov), elevation = 25.0 * kPi / 180.0;
+  const glm::dvec3 c(scene.bounds.center());
+  // The whole scene in view, from 25 degrees above the horizon.
+  const double distance = whole_view_distance(scene.bounds), elevation = 25.0 * kPi / 180.0;
   const double radius = distance * std::cos(elevation), height = distance * std::sin(elevation);
   CameraPath path;
   path.kind = "orbit";

@@ -52,6 +52,7 @@ RayCaster::RayCaster(const Scene& scene) : scene_(scene) {
   std::vector<Bounds3> bounds(scene.objects.size());
   for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = scene.objects[i].bounds;
   tree_ = build_octree(bounds, {});
+  tested_in_.assign(scene.objects.size(), 0);
 }
 
 std::optional<RayHit> RayCaster::cast(const glm::vec3& origin, const glm::vec3& direction,
@@ -61,7 +62,10 @@ std::optional<RayHit> RayCaster::cast(const glm::vec3& origin, const glm::vec3& 
   std::optional<RayHit> best;
   float limit = max_distance;
   std::vector<uint32_t> stack{0};
-  std::vector<uint8_t> tested(scene_.objects.size(), 0);  // objects listed in several leaves
+  if (++cast_ == 0) {  // wrapped: every mark is stale
+    std::fill(tested_in_.begin(), tested_in_.end(), 0);
+    cast_ = 1;
+  }
   while (!stack.empty()) {
     const OctreeNode& node = tree_.nodes[stack.back()];
     stack.pop_back();
@@ -72,8 +76,8 @@ std::optional<RayHit> RayCaster::cast(const glm::vec3& origin, const glm::vec3& 
     }
     for (uint32_t i = node.items_begin; i < node.items_end; ++i) {
       const uint32_t o = tree_.items[i];
-      if (tested[o]) continue;
-      tested[o] = 1;
+      if (tested_in_[o] == cast_) continue;
+      tested_in_[o] = cast_;
       const Object& object = scene_.objects[o];
       if (!enters(object.bounds, origin, inverse, limit)) continue;
       for (uint32_t k = object.first_index; k < object.first_index + object.index_count; k += 3) {

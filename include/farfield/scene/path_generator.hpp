@@ -18,11 +18,15 @@ namespace farfield {
 struct PathOptions {
   std::string kind = "street";  // street | fly | orbit
   uint32_t frames = 300;
-  double speed = 0.0;     // metres per frame; 0 picks the kind's default
-  uint64_t seed = 1;      // turn choices of the street walk
+  double speed = 0.0;       // metres per frame; 0 picks the kind's default
+  uint64_t seed = 1;        // turn choices of the street walk
   double eye_height = 1.7;  // metres above the street, street paths
 };
 
 Result<CameraPath> generate_path(const Scene& scene, const PathOptions& options);
+
+// The distance from the centre of `bounds` at which their bounding sphere fits the protocol's
+// view (90 degrees wide at 4:3) with 5% to spare: where an orbit path flies.
+double whole_view_distance(const Bounds3& bounds);
 
 }  // namespace farfield

@@ -4,7 +4,9 @@
 // the eye, walls ahead of it) and, later, picking and occluder queries.
 #pragma once
 
+#include <cstdint>
 #include <optional>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -23,12 +25,17 @@ class RayCaster {
   // Keeps a reference to `scene`, which must outlive it.
   explicit RayCaster(const Scene& scene);
   // The nearest hit within `max_distance` along `direction` (unit length) from `origin`.
+  // Not thread-safe (it marks the objects it tested).
   std::optional<RayHit> cast(const glm::vec3& origin, const glm::vec3& direction,
                              float max_distance) const;
 
  private:
   const Scene& scene_;
   Octree tree_;
+  // Per object, the cast that last tested it: an object listed in several leaves is tested
+  // once a cast, without clearing a flag per object every cast.
+  mutable std::vector<uint32_t> tested_in_;
+  mutable uint32_t cast_ = 0;
 };
 
 }  // namespace farfield

@@ -9,6 +9,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "farfield/core/frustum.hpp"
+#include "farfield/scene/path_generator.hpp"
 #include "farfield/store/bake_record.hpp"
 #include "farfield/store/store.hpp"
 
@@ -159,7 +160,7 @@ Result<void> check_cubes_drawable(const Scene& scene, const ColorcubeOptions& o)
   const double leaf_cube = side / double(1 << depth) / o.tree.leaf.cluster;
   const double epsilon = o.pixel_tolerance * 2.0 / 1024.0;  // tan(45 degrees) = 1
   const double radius = 0.5 * glm::length(glm::dvec3(size));
-  const double farthest = (1.05 / 0.6 + 1.0) * radius;  // orbit distance (path generator) + radius
+  const double farthest = whole_view_distance(scene.bounds) + radius;
   const double nearest_cube = leaf_cube / epsilon;
   if (nearest_cube <= farthest) return {};
   const int deeper = int(std::ceil(std::log2(side / (o.tree.leaf.cluster * epsilon * farthest))));
