@@ -96,9 +96,38 @@ TEST(CubeTree, RefusesBadOptions) {
   EXPECT_FALSE(settings.add("depth=3"));  // no technique name
 }
 
-TEST(CubeTree, DerivedDepthGrowsWithDensity) {
-  EXPECT_LE(derived_depth(box_field(2), 1000), derived_depth(box_field(2), 4));
-  EXPECT_GE(derived_depth(box_field(8), 12), 2);
+// Depth 0 puts leaf cubes at the scene's triangle size (no smaller, less than twice as
+// large), follows paper 002's density target under depth_rule=density, and is lowered to
+// stay under max_leaves; an explicit depth is kept.
+TEST(CubeTree, DerivedDepthFollowsTheSceneDetail) {
+  Progress quiet(true);
+  auto tree = generate_tree({}, quiet);
+  ASSERT_TRUE(tree);
+  auto field = generate_field(*tree, {.count = 16, .spacing = 40.0}, quiet);
+  ASSERT_TRUE(field);
+  const double edge = median_triangle_edge(*field);
+  CubeTreeOptions o;
+  const ResolvedDepth detail = resolve_depth(*field, o);
+  EXPECT_FALSE(detail.limited_by_leaves);
+  EXPECT_EQ(detail.depth, detail.detail_depth);
+  const double cube = leaf_cube_side(*field, detail.depth, o.leaf.cluster);
+  EXPECT_GE(cube, edge);
+  EXPECT_LT(cube, 2.0 * edge);
+
+  o.depth_rule = DepthRule::density;
+  const int dense = resolve_depth(*field, o).depth;
+  EXPECT_LE(field->triangle_count() / occupied_leaves(*field, dense), 4000u);
+  EXPECT_GT(field->triangle_count() / occupied_leaves(*field, dense - 1), 4000u);
+
+  o.depth_rule = DepthRule::detail;
+  o.max_leaves = occupied_leaves(*field, detail.depth) - 1;
+  const ResolvedDepth capped = resolve_depth(*field, o);
+  EXPECT_TRUE(capped.limited_by_leaves);
+  EXPECT_EQ(capped.depth, detail.depth - 1);
+  EXPECT_LE(occupied_leaves(*field, capped.depth), o.max_leaves);
+
+  o.depth = 3;
+  EXPECT_EQ(resolve_depth(*field, o).depth, 3);
 }
 
 TEST(ColorcubeGL, FarCubesStandInAndNearGeometryIsExact) {

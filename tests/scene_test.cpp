@@ -11,6 +11,13 @@
 namespace farfield {
 namespace {
 
+TEST(Scene, MedianTriangleEdgeIsTheTypicalLongestEdge) {
+  EXPECT_EQ(median_triangle_edge(Scene{}), 0.0f);
+  const Scene boxes = test::make_box_row(3);  // unit boxes: every longest edge a face diagonal
+  EXPECT_NEAR(median_triangle_edge(boxes), std::sqrt(2.0f), 1e-5f);
+  EXPECT_NEAR(median_triangle_edge(boxes, 5), std::sqrt(2.0f), 1e-5f);  // sampled
+}
+
 TEST(Scene, NormalsSurvivePackingWithinAQuarterDegree) {
   for (float a = 0.0f; a < 6.28f; a += 0.1f) {
     for (float b = -1.5f; b < 1.5f; b += 0.1f) {
@@ -63,8 +70,10 @@ TEST(Scene, ValidationNamesTheBrokenInvariant) {
     edit(scene);
     return validate_scene(scene);
   };
-  EXPECT_NE(broken([](Scene& s) { s.objects[1].material = 9; }).find("material"), std::string::npos);
-  EXPECT_NE(broken([](Scene& s) { s.objects[0].index_count += 3; }).find("index"), std::string::npos);
+  EXPECT_NE(broken([](Scene& s) { s.objects[1].material = 9; }).find("material"),
+            std::string::npos);
+  EXPECT_NE(broken([](Scene& s) { s.objects[0].index_count += 3; }).find("index"),
+            std::string::npos);
   EXPECT_NE(broken([](Scene& s) { s.objects[0].name_size = 999; }).find("name"), std::string::npos);
   EXPECT_NE(broken([](Scene& s) { s.objects[0].kind = ObjectKind(200); }).find("kind"),
             std::string::npos);

@@ -14,16 +14,26 @@ namespace farfield {
 
 std::string_view object_kind_name(ObjectKind kind) {
   switch (kind) {
-    case ObjectKind::mesh: return "mesh";
-    case ObjectKind::building: return "building";
-    case ObjectKind::tree: return "tree";
-    case ObjectKind::fountain: return "fountain";
-    case ObjectKind::park: return "park";
-    case ObjectKind::street: return "street";
-    case ObjectKind::curb: return "curb";
-    case ObjectKind::ground: return "ground";
-    case ObjectKind::terrain: return "terrain";
-    case ObjectKind::count_: break;
+    case ObjectKind::mesh:
+      return "mesh";
+    case ObjectKind::building:
+      return "building";
+    case ObjectKind::tree:
+      return "tree";
+    case ObjectKind::fountain:
+      return "fountain";
+    case ObjectKind::park:
+      return "park";
+    case ObjectKind::street:
+      return "street";
+    case ObjectKind::curb:
+      return "curb";
+    case ObjectKind::ground:
+      return "ground";
+    case ObjectKind::terrain:
+      return "terrain";
+    case ObjectKind::count_:
+      break;
   }
   return "unknown";
 }
@@ -31,6 +41,21 @@ std::string_view object_kind_name(ObjectKind kind) {
 uint64_t Scene::byte_size() const {
   return objects.size() * sizeof(Object) + materials.size() * sizeof(Material) +
          vertices.size() * sizeof(Vertex) + indices.size() * sizeof(uint32_t) + names.size();
+}
+
+float median_triangle_edge(const Scene& scene, uint64_t samples) {
+  const uint64_t n = scene.triangle_count();
+  if (n == 0 || samples == 0) return 0.0f;
+  const uint64_t count = std::min(n, samples);
+  std::vector<float> edges(count);
+  for (uint64_t i = 0; i < count; ++i) {
+    const uint32_t* t = scene.indices.data() + (i * n / count) * 3;
+    const glm::vec3 a = scene.vertices[t[0]].position, b = scene.vertices[t[1]].position,
+                    c = scene.vertices[t[2]].position;
+    edges[i] = std::max({glm::distance(a, b), glm::distance(b, c), glm::distance(c, a)});
+  }
+  std::nth_element(edges.begin(), edges.begin() + count / 2, edges.end());
+  return edges[count / 2];
 }
 
 namespace {
@@ -110,8 +135,8 @@ uint32_t SceneBuilder::vertex_count() const {
 
 void SceneBuilder::add_triangle(uint32_t a, uint32_t b, uint32_t c) {
   const uint32_t n = vertex_count();
-  FF_ASSERT(a < n && b < n && c < n, "triangle (%u,%u,%u) of an object with %u vertices", a, b,
-            c, n);
+  FF_ASSERT(a < n && b < n && c < n, "triangle (%u,%u,%u) of an object with %u vertices", a, b, c,
+            n);
   const uint32_t base = current_.first_vertex;
   scene_.indices.insert(scene_.indices.end(), {base + a, base + b, base + c});
 }

@@ -3,17 +3,9 @@
 #include <array>
 #include <cstdio>
 
+#include "farfield/core/text.hpp"
+
 namespace farfield {
-
-namespace {
-
-std::string format(const char* fmt, auto... args) {
-  char buffer[512];
-  std::snprintf(buffer, sizeof(buffer), fmt, args...);
-  return buffer;
-}
-
-}  // namespace
 
 std::string summarize_scene(const SceneSummaryInput& in) {
   const Scene& s = in.scene;
@@ -27,32 +19,35 @@ std::string summarize_scene(const SceneSummaryInput& in) {
   }
   const glm::vec3 size = s.bounds.size();
   std::string out;
-  out += format("file:        %s\n", in.path.c_str());
-  out += format("version:     %u\n", in.file.version);
-  out += format("file bytes:  %llu (%.1f MiB)\n", (unsigned long long)in.file.file_bytes,
-                in.file.file_bytes / 1048576.0);
-  out += format("load time:   %.3f s\n", in.load_seconds);
-  out += format("triangles:   %llu\n", (unsigned long long)s.triangle_count());
-  out += format("vertices:    %zu\n", s.vertices.size());
-  out += format("objects:     %zu (%llu semi-transparent)\n", s.objects.size(),
-                (unsigned long long)transparent);
-  out += format("materials:   %zu\n", s.materials.size());
-  out += format("memory:      %llu bytes (%.1f bytes per triangle)\n",
-                (unsigned long long)s.byte_size(),
-                s.triangle_count() ? double(s.byte_size()) / double(s.triangle_count()) : 0.0);
+  out += formatted("file:        %s\n", in.path.c_str());
+  out += formatted("version:     %u\n", in.file.version);
+  out += formatted("file bytes:  %llu (%.1f MiB)\n", (unsigned long long)in.file.file_bytes,
+                   in.file.file_bytes / 1048576.0);
+  out += formatted("load time:   %.3f s\n", in.load_seconds);
+  out += formatted("triangles:   %llu\n", (unsigned long long)s.triangle_count());
+  out += formatted("vertices:    %zu\n", s.vertices.size());
+  out += formatted("objects:     %zu (%llu semi-transparent)\n", s.objects.size(),
+                   (unsigned long long)transparent);
+  out += formatted("materials:   %zu\n", s.materials.size());
+  out += formatted("memory:      %llu bytes (%.1f bytes per triangle)\n",
+                   (unsigned long long)s.byte_size(),
+                   s.triangle_count() ? double(s.byte_size()) / double(s.triangle_count()) : 0.0);
   if (s.bounds.empty()) {
     out += "bounds:      empty\n";
   } else {
-    out += format("bounds:      min (%.2f, %.2f, %.2f) max (%.2f, %.2f, %.2f) m\n", s.bounds.min.x,
+    out +=
+        formatted("bounds:      min (%.2f, %.2f, %.2f) max (%.2f, %.2f, %.2f) m\n", s.bounds.min.x,
                   s.bounds.min.y, s.bounds.min.z, s.bounds.max.x, s.bounds.max.y, s.bounds.max.z);
-    out += format("size:        %.2f x %.2f x %.2f m (x, y up, z)\n", size.x, size.y, size.z);
+    out += formatted("size:        %.2f x %.2f x %.2f m (x, y up, z)\n", size.x, size.y, size.z);
+    out += formatted("detail:      %.3g m (median longest triangle edge)\n",
+                     double(median_triangle_edge(s)));
   }
   out += "by kind:     kind          objects    triangles\n";
   for (size_t k = 0; k < kinds; ++k) {
     if (objects[k] == 0) continue;
     const std::string name(object_kind_name(static_cast<ObjectKind>(k)));
-    out += format("             %-12s %8llu %12llu\n", name.c_str(), (unsigned long long)objects[k],
-                  (unsigned long long)triangles[k]);
+    out += formatted("             %-12s %8llu %12llu\n", name.c_str(),
+                     (unsigned long long)objects[k], (unsigned long long)triangles[k]);
   }
   return out;
 }

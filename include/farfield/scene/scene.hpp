@@ -25,15 +25,15 @@ namespace farfield {
 // What an object is; generators set it, importers use `mesh`. Stored as a byte on disk:
 // append new kinds at the end, never renumber.
 enum class ObjectKind : uint8_t {
-  mesh = 0,      // imported or otherwise unclassified geometry
+  mesh = 0,  // imported or otherwise unclassified geometry
   building = 1,
   tree = 2,
   fountain = 3,
-  park = 4,      // one L-shaped grass strip
+  park = 4,  // one L-shaped grass strip
   street = 5,
   curb = 6,
-  ground = 7,    // the raised ground (sidewalk) of a block
-  terrain = 8,   // one tile of a landscape's height field
+  ground = 7,   // the raised ground (sidewalk) of a block
+  terrain = 8,  // one tile of a landscape's height field
   count_ = 9,
 };
 
@@ -59,9 +59,9 @@ struct Object {
   uint32_t name_size = 0;
   ObjectKind kind = ObjectKind::mesh;
   uint8_t reserved[3] = {0, 0, 0};
-  uint32_t material = 0;     // into Scene::materials
-  uint32_t first_index = 0;  // into Scene::indices; a multiple of 3
-  uint32_t index_count = 0;  // a multiple of 3
+  uint32_t material = 0;      // into Scene::materials
+  uint32_t first_index = 0;   // into Scene::indices; a multiple of 3
+  uint32_t index_count = 0;   // a multiple of 3
   uint32_t first_vertex = 0;  // the vertices this object's indices refer to
   uint32_t vertex_count = 0;
   Bounds3 bounds;
@@ -113,6 +113,11 @@ class SceneBuilder {
   Object current_{};
   bool open_ = false;
 };
+
+// The scene's detail: the median of its triangles' longest edges (metres; 0 for no triangles),
+// from at most `samples` triangles spread evenly over the index array. Techniques size their
+// smallest representations by it (a colour cube smaller than a triangle gains nothing).
+float median_triangle_edge(const Scene& scene, uint64_t samples = 1u << 20);
 
 // XXH3-64 of the scene's arrays: a bake records it and refuses to serve another scene.
 uint64_t scene_fingerprint(const Scene& scene);

@@ -9,6 +9,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "farfield/core/frustum.hpp"
+#include "farfield/core/text.hpp"
 #include "farfield/scene/path_generator.hpp"
 #include "farfield/store/bake_record.hpp"
 #include "farfield/store/store.hpp"
@@ -31,11 +32,18 @@ constexpr SettingSpec kSettings[] = {
     {.key = "depth",
      .type = SettingType::integer,
      .default_value = "0",
-     .help = "levels of the octree below the root; 0 derives it from the triangle density "
-             "(about 4000 triangles a leaf, paper 002 Sec. 6.4)",
+     .help = "levels of the octree below the root; 0 derives it from the scene by "
+             "colorcube.depth_rule, at most 262144 leaves",
      .symbol = "octree depth (002, Table 1)",
      .min = 0,
      .max = 12,
+     .baked = true},
+    {.key = "depth_rule",
+     .type = SettingType::choice,
+     .default_value = "detail",
+     .help = "how depth 0 is derived: leaf cubes about the median triangle edge, or about 4000 "
+             "triangles a leaf (paper 002 Sec. 6.4)",
+     .choices = "detail|density",
      .baked = true},
     {.key = "cluster",
      .type = SettingType::integer,
@@ -119,6 +127,7 @@ const TechniqueDescriptor colorcube_descriptor{
                const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       ColorcubeOptions o;
       o.tree.depth = v.integer("depth");
+      o.tree.depth_rule = v.text("depth_rule") == "detail" ? DepthRule::detail : DepthRule::density;
       o.tree.leaf.cluster = v.integer("cluster");
       o.tree.leaf.oversampling = v.integer("oversampling");
       o.tree.leaf.coverage =
@@ -153,26 +162,34 @@ namespace {
 // epsilon (paper 002, Sec. 3.1); the farthest a point is seen in the protocol's view (1024 px
 // across 90 degrees) with the whole scene in sight is an orbit's distance plus the radius.
 Result<void> check_cubes_drawable(const Scene& scene, const ColorcubeOptions& o) {
-  const glm::vec3 size = scene.bounds.size();
-  const double side = std::max({double(size.x), double(size.y), double(size.z)});
-  const int depth =
-      o.tree.depth > 0 ? o.tree.depth : derived_depth(scene, o.tree.triangles_per_leaf);
-  const double leaf_cube = side / double(1 << depth) / o.tree.leaf.cluster;
+  const ResolvedDepth resolved = resolve_depth(scene, o.tree);
+  const int c = o.tree.leaf.cluster;
+  const double leaf_cube = leaf_cube_side(scene, resolved.depth, c);
   const double epsilon = o.pixel_tolerance * 2.0 / 1024.0;  // tan(45 degrees) = 1
-  const double radius = 0.5 * glm::length(glm::dvec3(size));
+  const double radius = 0.5 * glm::length(glm::dvec3(scene.bounds.size()));
   const double farthest = whole_view_distance(scene.bounds) + radius;
   const double nearest_cube = leaf_cube / epsilon;
   if (nearest_cube <= farthest) return {};
-  const int deeper = int(std::ceil(std::log2(side / (o.tree.leaf.cluster * epsilon * farthest))));
-  char why[512];
-  std::snprintf(why, sizeof why,
-                "colorcube: no cube would be drawn: at depth %d a leaf cube is %.3g m, which "
-                "shrinks below %.3g px only from %.0f m, and the scene is seen whole from %.0f m "
-                "(every frame would be octree culling; colour cubes suit dense geometry seen "
-                "from afar, paper 002). Set colorcube.depth=%d or deeper, a larger "
-                "colorcube.pixels, or colorcube.force=1 to bake anyway",
-                depth, leaf_cube, double(o.pixel_tolerance), nearest_cube, farthest,
-                std::min(deeper, 12));
+  const int deeper =
+      std::min(12, int(std::ceil(std::log2(leaf_cube_side(scene, 0, c) / (epsilon * farthest)))));
+  std::string why = formatted(
+      "colorcube: no cube would be drawn: at depth %d a leaf cube is %.3g m, which shrinks "
+      "below %.3g px only from %.0f m, and the scene is seen whole from %.0f m (every frame "
+      "would be octree culling; colour cubes stand for sub-pixel detail seen from afar, paper "
+      "002). ",
+      resolved.depth, leaf_cube, double(o.pixel_tolerance), nearest_cube, farthest);
+  if (o.tree.depth == 0 && resolved.limited_by_leaves)
+    why += formatted("The depth was lowered from %d to stay under %llu leaves. ",
+                     resolved.detail_depth, (unsigned long long)o.tree.max_leaves);
+  else if (o.tree.depth == 0 && deeper > resolved.detail_depth)
+    why += formatted(
+        "Depth %d would make leaf cubes (%.3g m) smaller than the scene's triangles (median "
+        "edge %.3g m). ",
+        deeper, leaf_cube_side(scene, deeper, c), double(median_triangle_edge(scene)));
+  why += formatted(
+      "Set colorcube.depth=%d or deeper, a larger colorcube.pixels, or colorcube.force=1 to "
+      "bake anyway",
+      deeper);
   return make_error(why);
 }
 

@@ -104,29 +104,60 @@ void add_face_quad(ProxyMesh& mesh, const glm::vec3& lo, const glm::vec3& hi, in
 
 }  // namespace
 
-int derived_depth(const Scene& scene, int triangles_per_leaf) {
-  // paper 002, Sec. 6.4: depth from primitive density. Deepen while the occupied cells of the
-  // level (counted by triangle centroid) hold more than the target on average.
+uint64_t occupied_leaves(const Scene& scene, int depth) {
   const Bounds3 cube = bounding_cube(scene.bounds);
   const uint64_t n = scene.triangle_count();
+  const uint32_t cells = 1u << depth;
+  const glm::vec3 scale = glm::vec3(float(cells)) / cube.size();
   std::vector<uint64_t> keys(n);
-  for (int depth = 1; depth <= 10; ++depth) {
-    const float cells = float(1 << depth);
-    const glm::vec3 scale = glm::vec3(cells) / cube.size();
-    for (uint64_t t = 0; t < n; ++t) {
-      const uint32_t* idx = scene.indices.data() + t * 3;
-      const glm::vec3 c = (scene.vertices[idx[0]].position + scene.vertices[idx[1]].position +
-                           scene.vertices[idx[2]].position) /
-                          3.0f;
-      const glm::uvec3 g = glm::clamp(glm::uvec3((c - cube.min) * scale), glm::uvec3(0),
-                                      glm::uvec3(uint32_t(cells) - 1));
-      keys[t] = (uint64_t(g.x) << 40) | (uint64_t(g.y) << 20) | g.z;
-    }
-    std::sort(keys.begin(), keys.end());
-    const uint64_t occupied = uint64_t(std::unique(keys.begin(), keys.end()) - keys.begin());
-    if (occupied == 0 || n / occupied <= uint64_t(triangles_per_leaf)) return depth;
+  for (uint64_t t = 0; t < n; ++t) {
+    const uint32_t* idx = scene.indices.data() + t * 3;
+    const glm::vec3 c = (scene.vertices[idx[0]].position + scene.vertices[idx[1]].position +
+                         scene.vertices[idx[2]].position) /
+                        3.0f;
+    const glm::uvec3 g =
+        glm::clamp(glm::uvec3((c - cube.min) * scale), glm::uvec3(0), glm::uvec3(cells - 1));
+    keys[t] = (uint64_t(g.x) << 42) | (uint64_t(g.y) << 21) | g.z;
   }
-  return 10;
+  std::sort(keys.begin(), keys.end());
+  return uint64_t(std::unique(keys.begin(), keys.end()) - keys.begin());
+}
+
+double leaf_cube_side(const Scene& scene, int depth, int cluster) {
+  return double(bounding_cube(scene.bounds).size().x) / double(1u << depth) / cluster;
+}
+
+ResolvedDepth resolve_depth(const Scene& scene, const CubeTreeOptions& o) {
+  ResolvedDepth r;
+  // Leaf cubes no smaller than the scene's typical triangle: finer ones cost memory and
+  // stand for less than a triangle each; coarser ones shrink below the tolerance only
+  // farther away, so more of the scene is drawn as triangles.
+  const double detail = median_triangle_edge(scene);
+  const double side = leaf_cube_side(scene, 0, o.leaf.cluster);
+  r.detail_depth = detail > 0.0 ? std::clamp(int(std::floor(std::log2(side / detail))), 1, 12) : 1;
+  if (o.depth > 0) {
+    r.depth = o.depth;
+    return r;
+  }
+  if (o.depth_rule == DepthRule::density) {
+    // paper 002, Sec. 6.4: depth from primitive density. Deepen while the occupied cells of
+    // the level (counted by triangle centroid) hold more than the target on average.
+    r.depth = 10;
+    for (int depth = 1; depth <= 10; ++depth) {
+      const uint64_t occupied = occupied_leaves(scene, depth);
+      if (occupied == 0 || scene.triangle_count() / occupied <= uint64_t(o.triangles_per_leaf)) {
+        r.depth = depth;
+        break;
+      }
+    }
+  } else {
+    r.depth = r.detail_depth;
+  }
+  while (r.depth > 1 && occupied_leaves(scene, r.depth) > o.max_leaves) {
+    --r.depth;
+    r.limited_by_leaves = true;
+  }
+  return r;
 }
 
 Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, Progress& progress) {
@@ -143,7 +174,7 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
 
   const auto start = Clock::now();
   CubeTree tree;
-  const int depth = o.depth > 0 ? o.depth : derived_depth(scene, o.triangles_per_leaf);
+  const int depth = resolve_depth(scene, o).depth;
   Subdivision split = subdivide(scene, depth, tree);
 
   // Phase I (paper 002, Sec. 5.1): render every leaf, on every core.

@@ -45,13 +45,12 @@ Result<void> save_cube_tree(const CubeTree& tree, Store& store) {
   const std::vector<CubeTreeStats> stats{tree.stats};
   if (auto ok = store.put(kStats, bytes_of(stats)); !ok) return ok;
   const CubeTreeStats& s = tree.stats;
-  const std::string table = "cells " + std::to_string(s.cells) + ", levels " +
-                            std::to_string(s.levels) + ", cluster " + std::to_string(s.cluster) +
-                            ", oversampling " + std::to_string(s.oversampling) +
-                            ", cube faces " + std::to_string(s.cube_faces) +
-                            " (inner faces dropped " + std::to_string(s.inner_faces_dropped) + ")" +
-                            ", preprocessing " + std::to_string(s.leaf_bake_s) + " s + " +
-                            std::to_string(s.hierarchy_s) + " s";
+  const std::string table =
+      "cells " + std::to_string(s.cells) + ", levels " + std::to_string(s.levels) + ", cluster " +
+      std::to_string(s.cluster) + ", oversampling " + std::to_string(s.oversampling) +
+      ", cube faces " + std::to_string(s.cube_faces) + " (inner faces dropped " +
+      std::to_string(s.inner_faces_dropped) + ")" + ", preprocessing " +
+      std::to_string(s.leaf_bake_s) + " s + " + std::to_string(s.hierarchy_s) + " s";
   if (auto ok = store.set_meta("colorcube/table1", table); !ok) return ok;
   return transaction->commit();
 }
@@ -75,8 +74,9 @@ Result<CubeTree> load_cube_tree(const Store& store) {
     if (index >= vertices->size()) return inconsistent("a proxy index past the vertices");
   for (size_t i = 0; i < cells->size(); ++i) {
     const CubeCell& c = (*cells)[i];
-    if (c.child_count > 8 || (c.child_count > 0 && (c.first_child <= i ||
-                                                    uint64_t(c.first_child) + c.child_count > cells->size())))
+    if (c.child_count > 8 ||
+        (c.child_count > 0 &&
+         (c.first_child <= i || uint64_t(c.first_child) + c.child_count > cells->size())))
       return inconsistent("a cell's children");
     auto range_ok = [&](uint32_t first, uint32_t count) {
       return first % 3 == 0 && count % 3 == 0 && uint64_t(first) + count <= indices->size();

@@ -25,7 +25,9 @@ struct SlabImages {
         slabs(c),
         depth(size_t(r) * r * c, std::numeric_limits<float>::infinity()),
         color(size_t(r) * r * c) {}
-  size_t at(int slab, int x, int y) const { return (size_t(slab) * resolution + y) * resolution + x; }
+  size_t at(int slab, int x, int y) const {
+    return (size_t(slab) * resolution + y) * resolution + x;
+  }
 };
 
 float edge(const glm::vec2& a, const glm::vec2& b, const glm::vec2& p) {
@@ -139,7 +141,8 @@ std::vector<ColorCube> bake_leaf(const Scene& scene, std::span<const uint32_t> m
           coord[axis] = face_sign(face) > 0 ? c - 1 - slab : slab;  // slab 0 is nearest the viewer
           coord[u] = cx;
           coord[v] = cy;
-          FaceColor& f = cubes[size_t(coord[0]) + size_t(c) * (coord[1] + size_t(c) * coord[2])].faces[face];
+          FaceColor& f =
+              cubes[size_t(coord[0]) + size_t(c) * (coord[1] + size_t(c) * coord[2])].faces[face];
           if (covered == 0) continue;
           f.rgb = sum / float(covered);
           f.coverage = o.coverage == CoverageMode::binary ? 1.0f : float(covered) / float(k * k);

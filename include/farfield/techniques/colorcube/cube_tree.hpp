@@ -24,9 +24,19 @@ namespace farfield {
 
 class Store;
 
+// How depth 0 is resolved (docs/techniques/colorcube.md, "Depth from the scene").
+enum class DepthRule : uint8_t {
+  detail,   // leaf cubes about the size of the scene's triangles (median_triangle_edge)
+  density,  // paper 002, Sec. 6.4: about triangles_per_leaf triangles a leaf
+};
+
 struct CubeTreeOptions {
-  int depth = 0;  // levels below the root; 0 derives it from triangle density (paper 002, 6.4)
-  int triangles_per_leaf = 4000;  // the density target when depth is derived
+  int depth = 0;  // levels below the root; 0 derives it by `depth_rule`
+  DepthRule depth_rule = DepthRule::detail;
+  int triangles_per_leaf = 4000;  // the density rule's target
+  // A derived depth is lowered until at most this many leaves are occupied: the bake needs
+  // about 10 KB a leaf (3.0 GB measured for 262,586 leaves of a 64-tree field).
+  uint64_t max_leaves = uint64_t(1) << 18;
   LeafBakeOptions leaf{.oversampling = 1, .cluster = 4, .coverage = CoverageMode::binary};
   float coverage_threshold = 0.0f;  // a face is drawn when its coverage exceeds this
   bool coverage_as_alpha = false;   // draw coverage as transparency (paper 002, Sec. 4.1)
@@ -75,7 +85,16 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& opti
 Result<void> save_cube_tree(const CubeTree& tree, Store& store);
 Result<CubeTree> load_cube_tree(const Store& store);
 
-// The depth build_cube_tree uses when options.depth is 0.
-int derived_depth(const Scene& scene, int triangles_per_leaf);
+// The depth build_cube_tree uses: options.depth, or the one its rule derives.
+struct ResolvedDepth {
+  int depth = 1;
+  int detail_depth = 1;            // where leaf cubes reach the scene's triangle size
+  bool limited_by_leaves = false;  // lowered to stay under options.max_leaves
+};
+ResolvedDepth resolve_depth(const Scene& scene, const CubeTreeOptions& options);
+// Leaves holding a triangle centroid at a depth of the scene's bounding cube.
+uint64_t occupied_leaves(const Scene& scene, int depth);
+// The side of a leaf cube at a depth: the bounding cube's side / 2^depth / cluster.
+double leaf_cube_side(const Scene& scene, int depth, int cluster);
 
 }  // namespace farfield
