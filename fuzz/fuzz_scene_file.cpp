@@ -13,7 +13,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       // An accepted scene must be safe to walk: touch every index's vertex.
       float sum = 0.0f;
       for (uint32_t index : scene->indices) sum += scene->vertices[index].position.x;
-      for (const auto& object : scene->objects) sum += float(scene->object_name(object).size());
+      for (const auto& object : scene->objects) {
+        sum += float(scene->object_name(object).size());
+        if (scene->textured(object)) {
+          sum += scene->uvs[object.first_uv + object.vertex_count - 1].x;
+          sum += float(scene->textures[scene->materials[object.material].texture].encoded.size());
+        }
+      }
       volatile float sink = sum;
       (void)sink;
     }

@@ -4,6 +4,8 @@
 
 #include <cstring>
 
+#include <xxhash.h>
+
 #include "test_util.hpp"
 
 namespace farfield {
@@ -33,6 +35,102 @@ TEST(SceneFile, RoundTripKeepsEverything) {
   EXPECT_EQ(read->object_name(read->objects[3]), "box_3");
   // Only the destination is left: the temporary file was renamed into place.
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"row.ffscene"});
+}
+
+TEST(SceneFile, TexturesAndTextureCoordinatesRoundTrip) {
+  TempDir dir;
+  const Scene scene = test::make_textured_scene(AlphaMode::mask);
+  ASSERT_TRUE(write_scene(scene, dir.file("t.ffscene")));
+  auto read = read_scene(dir.file("t.ffscene"));
+  ASSERT_TRUE(read) << read.error().message;
+  EXPECT_TRUE(same_bytes(read->objects, scene.objects));
+  EXPECT_TRUE(same_bytes(read->materials, scene.materials));
+  EXPECT_TRUE(same_bytes(read->uvs, scene.uvs));
+  ASSERT_EQ(read->textures.size(), 1u);
+  EXPECT_EQ(read->textures[0].name, "checker.png");
+  EXPECT_EQ(read->textures[0].width, 4u);
+  EXPECT_EQ(read->textures[0].codec, TextureCodec::png);
+  EXPECT_EQ(read->textures[0].encoded, scene.textures[0].encoded);
+  EXPECT_EQ(scene_fingerprint(*read), scene_fingerprint(scene));
+  // Every truncation of a textured file is refused too.
+  const std::string bytes = test::read_file(dir.file("t.ffscene"));
+  for (size_t size = 0; size < bytes.size(); size += 11)
+    EXPECT_FALSE(parse_scene(std::as_bytes(std::span(bytes.data(), size)), "f")) << size;
+}
+
+// A version 1 file (written by farfield before textures, kept in tests/data) still reads, to
+// the same scene fingerprint as then, so its bakes stay usable; written again it is version 2.
+TEST(SceneFile, Version1FilesStillRead) {
+  TempDir dir;
+  SceneFileInfo info;
+  auto v1 = read_scene(std::string(FARFIELD_SOURCE_DIR) + "/tests/data/tree_v1.ffscene", &info);
+  ASSERT_TRUE(v1) << v1.error().message;
+  EXPECT_EQ(info.version, 1u);
+  EXPECT_EQ(v1->triangle_count(), 632u);
+  EXPECT_EQ(scene_fingerprint(*v1), 0x894bed053fea1f6eull);
+  ASSERT_TRUE(write_scene(*v1, dir.file("v2.ffscene")));
+  auto v2 = read_scene(dir.file("v2.ffscene"), &info);
+  ASSERT_TRUE(v2);
+  EXPECT_EQ(info.version, kSceneFileVersion);
+  EXPECT_EQ(scene_fingerprint(*v2), 0x894bed053fea1f6eull);
+}
+
+// The file with one more section after the table: a later version's addition.
+std::string with_extra_section(const std::string& file, const char* tag, uint32_t flags) {
+  uint32_t count;
+  std::memcpy(&count, file.data() + 40, 4);
+  const size_t old_start = (64 + count * 48 + 63) / 64 * 64;
+  const size_t new_start = (64 + (count + 1) * 48 + 63) / 64 * 64;
+  std::string out = file.substr(0, 64 + count * 48);
+  std::string entry(48, '\0');
+  std::memcpy(entry.data(), tag, std::strlen(tag));
+  const uint64_t offset = file.size() - old_start + new_start, size = 8, element = 1;
+  const std::string payload = "12345678";
+  const uint64_t checksum = XXH3_64bits(payload.data(), payload.size());
+  std::memcpy(entry.data() + 16, &offset, 8);
+  std::memcpy(entry.data() + 24, &size, 8);
+  std::memcpy(entry.data() + 32, &checksum, 8);
+  std::memcpy(entry.data() + 40, &element, 4);
+  std::memcpy(entry.data() + 44, &flags, 4);
+  out += entry;
+  out.resize(new_start, '\0');
+  out += file.substr(old_start);
+  out += payload + std::string(56, '\0');
+  for (uint32_t i = 0; i < count; ++i) {  // the old sections moved by the table's growth
+    uint64_t at;
+    std::memcpy(&at, out.data() + 64 + i * 48 + 16, 8);
+    at += new_start - old_start;
+    std::memcpy(out.data() + 64 + i * 48 + 16, &at, 8);
+  }
+  ++count;
+  std::memcpy(out.data() + 40, &count, 4);
+  const uint64_t file_size = out.size();
+  std::memcpy(out.data() + 48, &file_size, 8);
+  XXH3_state_t* state = XXH3_createState();
+  XXH3_64bits_reset(state);
+  XXH3_64bits_update(state, out.data(), 56);
+  XXH3_64bits_update(state, out.data() + 64, count * 48);
+  const uint64_t header = XXH3_64bits_digest(state);
+  XXH3_freeState(state);
+  std::memcpy(out.data() + 56, &header, 8);
+  return out;
+}
+
+TEST(SceneFile, UnknownSectionsAreSkippedUnlessRequired) {
+  TempDir dir;
+  const Scene scene = test::make_textured_scene();
+  ASSERT_TRUE(write_scene(scene, dir.file("t.ffscene")));
+  const std::string file = test::read_file(dir.file("t.ffscene"));
+  const std::string optional = with_extra_section(file, "portals", 0);
+  auto read = parse_scene(std::as_bytes(std::span(optional.data(), optional.size())), "f");
+  ASSERT_TRUE(read) << read.error().message;
+  EXPECT_EQ(scene_fingerprint(*read), scene_fingerprint(scene));
+  const std::string required = with_extra_section(file, "portals", 1);
+  read = parse_scene(std::as_bytes(std::span(required.data(), required.size())), "f");
+  ASSERT_FALSE(read);
+  EXPECT_NE(read.error().message.find("needs a newer farfield"), std::string::npos)
+      << read.error().message;
+  EXPECT_NE(read.error().message.find("portals"), std::string::npos);
 }
 
 TEST(SceneFile, SameSceneGivesSameBytes) {
@@ -119,10 +217,11 @@ TEST(SceneFile, StructureIsCheckedBehindTheChecksums) {
   TempDir dir;
   ASSERT_TRUE(write_scene(test::make_box_row(2), dir.file("full.ffscene")));
   std::string bytes = test::read_file(dir.file("full.ffscene"));
-  // The header's section table starts at byte 40: {offset, count, checksum} per section;
-  // the indices are the fourth section.
+  // The section table starts at byte 64, 48 bytes an entry: {tag[16], offset, bytes,
+  // checksum, element size, flags}; the indices are the fourth section.
   uint64_t index_offset;
-  std::memcpy(&index_offset, bytes.data() + 40 + 3 * 24, sizeof(index_offset));
+  std::memcpy(&index_offset, bytes.data() + 64 + 3 * 48 + 16, sizeof(index_offset));
+  ASSERT_EQ(std::string(bytes.data() + 64 + 3 * 48), "indices");
   const uint32_t far_away = 1000;
   std::memcpy(bytes.data() + index_offset, &far_away, sizeof(far_away));
   const auto span = std::as_bytes(std::span(bytes.data(), bytes.size()));

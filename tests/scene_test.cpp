@@ -48,7 +48,39 @@ TEST(Scene, BuilderKeepsRangesBoundsAndNames) {
   EXPECT_EQ(scene.objects[2].bounds.min, glm::vec3(4, 0, 0));
   EXPECT_EQ(scene.bounds.max, glm::vec3(5, 1, 1));
   EXPECT_EQ(validate_scene(scene), "");
-  EXPECT_EQ(scene.byte_size(), 3 * 64 + 2 * 16 + 72 * 20 + 108 * 4 + scene.names.size());
+  EXPECT_EQ(scene.byte_size(), 3 * 64 + 2 * 32 + 72 * 20 + 108 * 4 + scene.names.size());
+}
+
+// Texture coordinates are kept for textured objects only; the scene validates their ranges.
+TEST(Scene, TexturedObjectsAloneHoldTextureCoordinates) {
+  Scene scene = test::make_textured_scene();
+  ASSERT_EQ(validate_scene(scene), "");
+  ASSERT_EQ(scene.objects.size(), 2u);
+  EXPECT_FALSE(scene.textured(scene.objects[0]));
+  EXPECT_TRUE(scene.textured(scene.objects[1]));
+  EXPECT_EQ(scene.uvs.size(), scene.objects[1].vertex_count);
+  EXPECT_EQ(scene.objects[1].first_uv, 0u);
+  EXPECT_EQ(scene.texture_bytes(), scene.textures[0].encoded.size());
+  Scene broken = scene;
+  broken.uvs.pop_back();
+  EXPECT_NE(validate_scene(broken).find("texture coordinates out of range"), std::string::npos);
+  broken = scene;
+  broken.materials[scene.objects[1].material].texture = 7;
+  EXPECT_NE(validate_scene(broken).find("texture out of range"), std::string::npos);
+  broken = scene;
+  broken.materials[scene.objects[1].material].alpha_mode = AlphaMode(9);
+  EXPECT_NE(validate_scene(broken).find("alpha mode"), std::string::npos);
+  broken = scene;
+  broken.textures[0].encoded.clear();
+  EXPECT_NE(validate_scene(broken).find("empty image"), std::string::npos);
+  // An untextured scene's fingerprint does not depend on the material fields textures added.
+  Scene plain = test::make_box_row(2);
+  const uint64_t before = scene_fingerprint(plain);
+  plain.materials[0].alpha_cutoff = 0.25f;
+  EXPECT_EQ(scene_fingerprint(plain), before);
+  broken = scene;
+  broken.uvs[0].x += 1.0f;
+  EXPECT_NE(scene_fingerprint(broken), scene_fingerprint(scene));
 }
 
 TEST(Scene, EmptyObjectsAreDropped) {

@@ -10,6 +10,9 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "farfield/core/assert.hpp"
+#include "farfield/core/image.hpp"
+
 namespace farfield::test {
 
 Result<void> load_technique(Technique& technique, const Scene& scene, gpu::Device* device,
@@ -52,6 +55,34 @@ std::vector<std::string> TempDir::entries() const {
     names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
+}
+
+Scene make_textured_scene(AlphaMode mode) {
+  Scene scene = make_box_row(1);
+  SceneBuilder b(scene);
+  Image checker(4, 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) std::fill_n(checker.pixel(x, y), 3, uint8_t((x + y) % 2 ? 255 : 0));
+  auto png = encode_png(checker);
+  FF_ASSERT(png.ok(), "checker PNG");
+  const uint32_t texture = b.add_texture(Texture{.name = "checker.png",
+                                                 .codec = TextureCodec::png,
+                                                 .width = 4,
+                                                 .height = 4,
+                                                 .has_alpha = false,
+                                                 .encoded = std::move(*png)});
+  const uint32_t material = b.add_material(
+      Material{.base_color = glm::vec4(1.0f), .texture = texture, .alpha_mode = mode});
+  b.begin_object("quad", ObjectKind::mesh, material);
+  const glm::vec3 n(0.0f, 0.0f, 1.0f);
+  b.add_vertex({-1.0f, 0.0f, 3.0f}, n, 0xffffffffu, {0.0f, 1.0f});
+  b.add_vertex({1.0f, 0.0f, 3.0f}, n, 0xffffffffu, {1.0f, 1.0f});
+  b.add_vertex({-1.0f, 2.0f, 3.0f}, n, 0xffffffffu, {0.0f, 0.0f});
+  b.add_vertex({1.0f, 2.0f, 3.0f}, n, 0xffffffffu, {1.0f, 0.0f});
+  b.add_triangle(0, 1, 3);
+  b.add_triangle(0, 3, 2);
+  b.end_object();
+  return scene;
 }
 
 Scene make_box_row(int boxes) {

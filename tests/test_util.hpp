@@ -29,6 +29,10 @@ class TempDir {
 // `boxes` unit cubes along X, one object each, alternating an opaque and a transparent material.
 Scene make_box_row(int boxes);
 
+// One untextured unit box, then a 2 m textured quad facing +Z at z = 3 with a 4 x 4 checker
+// texture (PNG, black and white texels), material alpha mode `mode`.
+Scene make_textured_scene(AlphaMode mode = AlphaMode::opaque);
+
 // Loads a technique for `scene` with its resources on `device` (the renderer of a GL test; a
 // MemoryDevice that lives as long as the tests when null), from `store` when given.
 Result<void> load_technique(Technique& technique, const Scene& scene, gpu::Device* device = nullptr,

@@ -69,6 +69,41 @@ Result<Image> decode_png(std::span<const std::byte> bytes, uint64_t max_pixels) 
   return image;
 }
 
+Result<std::vector<std::byte>> encode_png(const RgbaImage& image) {
+  FF_ASSERT(image.width > 0 && image.height > 0 &&
+                image.rgba.size() == size_t(image.width) * size_t(image.height) * 4,
+            "image %dx%d holds %zu bytes", image.width, image.height, image.rgba.size());
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  png.width = png_uint_32(image.width);
+  png.height = png_uint_32(image.height);
+  png.format = PNG_FORMAT_RGBA;
+  png_alloc_size_t size = 0;
+  if (!png_image_write_get_memory_size(png, size, 0, image.rgba.data(), 0, nullptr))
+    return make_error("cannot encode PNG: ", png.message);
+  std::vector<std::byte> out(size);
+  if (!png_image_write_to_memory(&png, out.data(), &size, 0, image.rgba.data(), 0, nullptr))
+    return make_error("cannot encode PNG: ", png.message);
+  out.resize(size);
+  return out;
+}
+
+Result<RgbaImage> decode_png_rgba(std::span<const std::byte> bytes, uint64_t max_pixels) {
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_memory(&png, bytes.data(), bytes.size()))
+    return make_error("not a readable PNG: ", png.message);
+  png.format = PNG_FORMAT_RGBA;
+  if (auto ok = check_image_size(png.width, png.height, max_pixels); !ok) {
+    png_image_free(&png);
+    return make_error("PNG ", ok.error().message);
+  }
+  RgbaImage image(int(png.width), int(png.height));
+  if (!png_image_finish_read(&png, nullptr, image.rgba.data(), 0, nullptr))
+    return make_error("corrupted PNG: ", png.message);
+  return image;
+}
+
 Result<void> write_png(const Image& image, const std::string& path) {
   auto bytes = encode_png(image);
   if (!bytes) return make_error(path, ": ", bytes.error().message);

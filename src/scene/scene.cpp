@@ -39,8 +39,17 @@ std::string_view object_kind_name(ObjectKind kind) {
 }
 
 uint64_t Scene::byte_size() const {
+  uint64_t texture_names = 0;
+  for (const Texture& t : textures) texture_names += t.name.size() + sizeof(Texture);
   return objects.size() * sizeof(Object) + materials.size() * sizeof(Material) +
-         vertices.size() * sizeof(Vertex) + indices.size() * sizeof(uint32_t) + names.size();
+         vertices.size() * sizeof(Vertex) + indices.size() * sizeof(uint32_t) + names.size() +
+         uvs.size() * sizeof(glm::vec2) + texture_names + texture_bytes();
+}
+
+uint64_t Scene::texture_bytes() const {
+  uint64_t bytes = 0;
+  for (const Texture& t : textures) bytes += t.encoded.size();
+  return bytes;
 }
 
 float median_triangle_edge(const Scene& scene, uint64_t samples) {
@@ -98,10 +107,16 @@ glm::vec4 unpack_color(uint32_t p) {
 uint32_t SceneBuilder::add_material(const Material& m) {
   auto& materials = scene_.materials;
   for (size_t i = 0; i < materials.size(); ++i) {
-    if (materials[i].base_color == m.base_color) return static_cast<uint32_t>(i);
+    if (materials[i] == m) return static_cast<uint32_t>(i);
   }
   materials.push_back(m);
   return static_cast<uint32_t>(materials.size() - 1);
+}
+
+uint32_t SceneBuilder::add_texture(Texture texture) {
+  FF_ASSERT(scene_.textures.size() < kNoTexture - 1, "texture table full");
+  scene_.textures.push_back(std::move(texture));
+  return static_cast<uint32_t>(scene_.textures.size() - 1);
 }
 
 void SceneBuilder::begin_object(std::string_view name, ObjectKind kind, uint32_t material) {
@@ -117,14 +132,23 @@ void SceneBuilder::begin_object(std::string_view name, ObjectKind kind, uint32_t
   current_.material = material;
   current_.first_index = static_cast<uint32_t>(scene_.indices.size());
   current_.first_vertex = static_cast<uint32_t>(scene_.vertices.size());
+  textured_ = scene_.materials[material].textured();
+  if (textured_) {
+    FF_ASSERT(scene_.uvs.size() < UINT32_MAX, "more than 2^32-1 texture coordinates");
+    current_.first_uv = static_cast<uint32_t>(scene_.uvs.size());
+  }
   open_ = true;
 }
 
 uint32_t SceneBuilder::add_vertex(const glm::vec3& position, const glm::vec3& normal,
-                                  uint32_t color) {
+                                  uint32_t color, glm::vec2 uv) {
   FF_ASSERT(open_, "no object open");
   FF_ASSERT(scene_.vertices.size() < UINT32_MAX, "more than 2^32-1 vertices");
   scene_.vertices.push_back(Vertex{position, pack_normal(normal), color});
+  if (textured_) {
+    FF_ASSERT(scene_.uvs.size() < UINT32_MAX, "more than 2^32-1 texture coordinates");
+    scene_.uvs.push_back(uv);
+  }
   current_.bounds.expand(position);
   return vertex_count() - 1;
 }
@@ -149,6 +173,7 @@ void SceneBuilder::end_object() {
   if (current_.index_count == 0) {  // nothing to draw: roll back the name and vertices
     scene_.names.resize(current_.name_offset);
     scene_.vertices.resize(current_.first_vertex);
+    if (textured_) scene_.uvs.resize(current_.first_uv);
     return;
   }
   scene_.bounds.expand(current_.bounds);
@@ -159,10 +184,21 @@ uint64_t scene_fingerprint(const Scene& s) {
   XXH3_state_t* state = XXH3_createState();
   XXH3_64bits_reset(state);
   XXH3_64bits_update(state, s.objects.data(), s.objects.size() * sizeof(Object));
-  XXH3_64bits_update(state, s.materials.data(), s.materials.size() * sizeof(Material));
+  // Base colours alone, then the rest only where a scene has textures: an untextured scene
+  // keeps the fingerprint it had before materials grew, and so its bakes.
+  for (const Material& m : s.materials) XXH3_64bits_update(state, &m.base_color, 16);
   XXH3_64bits_update(state, s.vertices.data(), s.vertices.size() * sizeof(Vertex));
   XXH3_64bits_update(state, s.indices.data(), s.indices.size() * sizeof(uint32_t));
   XXH3_64bits_update(state, s.names.data(), s.names.size());
+  if (!s.textures.empty() || !s.uvs.empty()) {
+    XXH3_64bits_update(state, s.materials.data(), s.materials.size() * sizeof(Material));
+    XXH3_64bits_update(state, s.uvs.data(), s.uvs.size() * sizeof(glm::vec2));
+    for (const Texture& t : s.textures) {
+      XXH3_64bits_update(state, t.encoded.data(), t.encoded.size());
+      const uint32_t header[3] = {t.width, t.height, uint32_t(t.codec)};
+      XXH3_64bits_update(state, header, sizeof header);
+    }
+  }
   const uint64_t hash = XXH3_64bits_digest(state);
   XXH3_freeState(state);
   return hash;
@@ -179,6 +215,8 @@ std::string validate_scene(const Scene& s) {
     if (static_cast<uint8_t>(o.kind) >= static_cast<uint8_t>(ObjectKind::count_))
       return fail(i, "unknown kind");
     if (o.material >= s.materials.size()) return fail(i, "material out of range");
+    if (s.materials[o.material].textured() && uint64_t(o.first_uv) + o.vertex_count > s.uvs.size())
+      return fail(i, "texture coordinates out of range");
     if (o.first_index % 3 != 0 || o.index_count % 3 != 0)
       return fail(i, "index range not made of whole triangles");
     if (uint64_t(o.first_index) + o.index_count > s.indices.size())
@@ -191,6 +229,27 @@ std::string validate_scene(const Scene& s) {
         return fail(i, "index outside the object's vertex range");
     }
   }
+  for (size_t i = 0; i < s.materials.size(); ++i) {
+    const Material& m = s.materials[i];
+    const std::string at = "material " + std::to_string(i) + ": ";
+    if (m.textured() && m.texture >= s.textures.size()) return at + "texture out of range";
+    if (uint8_t(m.alpha_mode) >= uint8_t(AlphaMode::count_)) return at + "unknown alpha mode";
+    if (uint8_t(m.wrap_u) >= uint8_t(TextureWrap::count_) ||
+        uint8_t(m.wrap_v) >= uint8_t(TextureWrap::count_))
+      return at + "unknown wrap mode";
+    if (!(m.alpha_cutoff >= 0.0f && m.alpha_cutoff <= 1.0f))
+      return at + "alpha cutoff not in [0, 1]";
+    for (int c = 0; c < 4; ++c)
+      if (!std::isfinite(m.base_color[c])) return at + "base colour not finite";
+  }
+  for (size_t i = 0; i < s.textures.size(); ++i) {
+    const Texture& t = s.textures[i];
+    const std::string at = "texture " + std::to_string(i) + ": ";
+    if (uint8_t(t.codec) >= uint8_t(TextureCodec::count_)) return at + "unknown codec";
+    if (t.width == 0 || t.height == 0 || t.encoded.empty()) return at + "empty image";
+  }
+  for (const glm::vec2& uv : s.uvs)
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return "a texture coordinate is not finite";
   for (uint32_t index : s.indices) {
     if (index >= s.vertices.size()) return "an index is out of the vertex range";
   }

@@ -29,6 +29,12 @@ std::string summarize_scene(const SceneSummaryInput& in) {
   out += formatted("objects:     %zu (%llu semi-transparent)\n", s.objects.size(),
                    (unsigned long long)transparent);
   out += formatted("materials:   %zu\n", s.materials.size());
+  if (!s.textures.empty()) {
+    uint64_t texels = 0;
+    for (const Texture& t : s.textures) texels += uint64_t(t.width) * t.height;
+    out += formatted("textures:    %zu (%llu bytes compressed, %.1f Mtexels)\n", s.textures.size(),
+                     (unsigned long long)s.texture_bytes(), double(texels) / 1e6);
+  }
   out += formatted("memory:      %llu bytes (%.1f bytes per triangle)\n",
                    (unsigned long long)s.byte_size(),
                    s.triangle_count() ? double(s.byte_size()) / double(s.triangle_count()) : 0.0);

@@ -6,7 +6,9 @@
 // owns one contiguous range of indices and one contiguous range of vertices.
 //
 // Memory: 20 bytes per vertex, 12 bytes per triangle of indices, 64 bytes per object plus
-// its name; see docs/scene.md for bytes per triangle of typical scenes.
+// its name; a textured object's vertices add 8 bytes each (their texture coordinates, kept
+// apart in `uvs` so that untextured ones pay nothing), and textures are held compressed as
+// they came (PNG or JPEG); see docs/scene.md for bytes per triangle of typical scenes.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
@@ -48,11 +51,42 @@ struct Vertex {
 };
 static_assert(sizeof(Vertex) == 20);
 
-struct Material {
-  glm::vec4 base_color{1.0f};  // linear RGB in [0,1]; alpha < 1 means semi-transparent
-  bool transparent() const { return base_color.a < 1.0f; }
+inline constexpr uint32_t kNoTexture = UINT32_MAX;
+
+// How a material's alpha is used (glTF 2.0's alphaMode).
+enum class AlphaMode : uint8_t {
+  opaque = 0,  // alpha ignored
+  mask = 1,    // drawn opaque where alpha >= alpha_cutoff, cut out elsewhere (foliage, fences)
+  blend = 2,   // semi-transparent, drawn after opaque geometry
+  count_ = 3,
 };
-static_assert(sizeof(Material) == 16);
+// Texture coordinates outside [0, 1] (glTF's REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT).
+enum class TextureWrap : uint8_t { repeat = 0, clamp = 1, mirror = 2, count_ = 3 };
+
+struct Material {
+  glm::vec4 base_color{1.0f};     // linear RGB in [0,1], times the texture (glTF's factor)
+  uint32_t texture = kNoTexture;  // base-colour texture, into Scene::textures
+  AlphaMode alpha_mode = AlphaMode::opaque;
+  TextureWrap wrap_u = TextureWrap::repeat, wrap_v = TextureWrap::repeat;
+  uint8_t reserved = 0;
+  float alpha_cutoff = 0.5f;  // for AlphaMode::mask
+  uint32_t reserved2 = 0;
+  bool textured() const { return texture != kNoTexture; }
+  // Blended: AlphaMode::blend, or a base alpha below 1 (the generators' glass).
+  bool transparent() const { return alpha_mode == AlphaMode::blend || base_color.a < 1.0f; }
+  bool operator==(const Material&) const = default;
+};
+static_assert(sizeof(Material) == 32);
+
+// A texture as stored: the compressed image (decoded when drawn or baked: texture_image.hpp).
+enum class TextureCodec : uint8_t { png = 0, jpeg = 1, count_ = 2 };
+struct Texture {
+  std::string name;  // where it came from (a file name, or "embedded N"), for messages
+  TextureCodec codec = TextureCodec::png;
+  uint32_t width = 0, height = 0;
+  bool has_alpha = false;  // some texel has alpha < 1
+  std::vector<std::byte> encoded;
+};
 
 struct Object {
   uint32_t name_offset = 0;  // into Scene::names
@@ -65,7 +99,10 @@ struct Object {
   uint32_t first_vertex = 0;  // the vertices this object's indices refer to
   uint32_t vertex_count = 0;
   Bounds3 bounds;
-  uint32_t reserved2[2] = {0, 0};
+  // When the material is textured: vertex first_vertex + i has texture coordinates
+  // Scene::uvs[first_uv + i]. Unused (0) otherwise.
+  uint32_t first_uv = 0;
+  uint32_t reserved2 = 0;
   uint32_t triangle_count() const { return index_count / 3; }
 };
 static_assert(sizeof(Object) == 64);
@@ -75,10 +112,14 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Vertex> vertices;
   std::vector<uint32_t> indices;
-  std::string names;  // object names, concatenated without separators
-  Bounds3 bounds;     // of all vertices
+  std::string names;           // object names, concatenated without separators
+  std::vector<glm::vec2> uvs;  // textured objects' texture coordinates (Object::first_uv)
+  std::vector<Texture> textures;
+  Bounds3 bounds;  // of all vertices
 
   uint64_t triangle_count() const { return indices.size() / 3; }
+  bool textured(const Object& o) const { return materials[o.material].textured(); }
+  uint64_t texture_bytes() const;  // compressed, as stored
   std::string_view object_name(const Object& o) const {
     return std::string_view(names).substr(o.name_offset, o.name_size);
   }
@@ -100,8 +141,11 @@ class SceneBuilder {
   explicit SceneBuilder(Scene& scene) : scene_(scene) {}
 
   uint32_t add_material(const Material& m);  // reuses an identical existing material
+  uint32_t add_texture(Texture texture);
   void begin_object(std::string_view name, ObjectKind kind, uint32_t material);
-  uint32_t add_vertex(const glm::vec3& position, const glm::vec3& normal, uint32_t color);
+  // `uv` is kept when the object's material is textured, and ignored otherwise.
+  uint32_t add_vertex(const glm::vec3& position, const glm::vec3& normal, uint32_t color,
+                      glm::vec2 uv = {});
   // Local vertex numbers, counted from the object's first vertex.
   void add_triangle(uint32_t a, uint32_t b, uint32_t c);
   uint32_t vertex_count() const;  // in the current object
@@ -112,6 +156,7 @@ class SceneBuilder {
   Scene& scene_;
   Object current_{};
   bool open_ = false;
+  bool textured_ = false;  // the open object's material has a texture
 };
 
 // The scene's detail: the median of its triangles' longest edges (metres; 0 for no triangles),

@@ -1,8 +1,11 @@
 // The .ffscene file: a Scene on disk (docs/ffscene.md gives the layout).
 //
-// Little-endian. A fixed header (magic, version, counts, bounds, a table of five sections with
-// offset, size and XXH3-64 checksum, then the header's own checksum), followed by the sections
-// (objects, materials, vertices, indices, names), each 64-byte aligned. Written atomically:
+// Little-endian. A header (magic, version, bounds, the file's size, a checksum over it and the
+// section table), a table of tagged sections (name, offset, bytes, element size, XXH3-64
+// checksum, whether a reader must know it), then the sections, each 64-byte aligned: objects,
+// materials, vertices, indices, names, and for textured scenes uvs, textures, texture_names,
+// images. Later versions add sections; a reader skips those it does not know unless they are
+// marked required. Version 1 files (five fixed sections) are still read. Written atomically:
 // a temporary file in the destination's folder, flushed, then renamed over the destination.
 // Reading checks size, checksums and every scene invariant, so a truncated, corrupted or
 // hand-crafted file is refused with a message rather than trusted.
@@ -18,7 +21,7 @@
 
 namespace farfield {
 
-inline constexpr uint32_t kSceneFileVersion = 1;
+inline constexpr uint32_t kSceneFileVersion = 2;  // written; 1 and 2 are read
 
 struct SceneFileInfo {
   uint32_t version = 0;
