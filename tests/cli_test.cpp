@@ -147,6 +147,32 @@ TEST(Cli, ImportRefusesBadFilesAndWritesNothing) {
   }
 }
 
+TEST(Cli, ImportRefusesAMissingTextureUnlessAskedToDropIt) {
+  const std::filesystem::path box = "/usr/share/assimp/models/glTF2/BoxTextured-glTF";
+  if (!std::filesystem::is_directory(box)) GTEST_SKIP() << "assimp-testmodels not installed";
+  TempDir dir;
+  std::filesystem::copy_file(box / "BoxTextured.gltf", dir.file("box.gltf"));
+  std::filesystem::copy_file(box / "BoxTextured0.bin", dir.file("BoxTextured0.bin"));
+  const auto before = dir.entries();
+  auto r = run_farfield("import " + quoted(dir.file("box.gltf")) + " --out " +
+                        quoted(dir.file("box.ffscene")));
+  EXPECT_EQ(r.exit_status, 1) << r.output;
+  EXPECT_NE(r.output.find("CesiumLogoFlat.png: texture not found"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--drop-bad-textures"), std::string::npos) << r.output;
+  EXPECT_EQ(dir.entries(), before);
+  r = run_farfield("import " + quoted(dir.file("box.gltf")) + " --drop-bad-textures --out " +
+                   quoted(dir.file("box.ffscene")));
+  EXPECT_EQ(r.exit_status, 0) << r.output;
+  EXPECT_NE(r.output.find("dropped a texture, kept the colour"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("0 textures"), std::string::npos) << r.output;
+  std::filesystem::copy_file(box / "CesiumLogoFlat.png", dir.file("CesiumLogoFlat.png"));
+  r = run_farfield("import " + quoted(dir.file("box.gltf")) + " --out " +
+                   quoted(dir.file("box.ffscene")));
+  EXPECT_EQ(r.exit_status, 0) << r.output;
+  auto info = run_farfield("info " + quoted(dir.file("box.ffscene")));
+  EXPECT_NE(info.output.find("textures:    1 ("), std::string::npos) << info.output;
+}
+
 TEST(Cli, GenerateCityIsDeterministicAndInfoReadsIt) {
   TempDir dir;
   const std::string args = " --blocks 2 --rows 3 --columns 3 --seed 5 -q --out ";

@@ -17,6 +17,7 @@
 #include <assimp/scene.h>
 #include <glm/geometric.hpp>
 
+#include "farfield/scene/texture_image.hpp"
 #include "test_util.hpp"
 
 namespace farfield {
@@ -426,6 +427,89 @@ TEST(Import, TruncatedTestModelsAreRefused) {
       expect_refused(path, "truncated");
     }
   }
+}
+
+}  // namespace
+}  // namespace farfield
+
+namespace farfield {
+namespace {
+
+// The base-colour texture of every textured test model is found (beside the file, in its
+// .bin, embedded as base64, or under an absolute path the model was authored with) and
+// decodes; its objects carry texture coordinates.
+TEST(Import, TexturedTestModelsKeepTheirTextures) {
+  if (!std::filesystem::is_directory(kTestModels))
+    GTEST_SKIP() << "assimp-testmodels not installed";
+  struct Case {
+    const char* file;
+    size_t textures;
+  };
+  for (const Case& c :
+       {Case{"glTF2/BoxTextured-glTF/BoxTextured.gltf", 1},
+        Case{"glTF2/BoxTextured-glTF-Binary/BoxTextured.glb", 1},
+        Case{"glTF2/BoxTextured-glTF-Embedded/BoxTextured.gltf", 1}, Case{"OBJ/spider.obj", 4},
+        Case{"AC/SphereWithLight.ac", 1}, Case{"Collada/duck.dae", 1}}) {
+    Scene scene;
+    const Result<void> r = import_model((kTestModels / c.file).string(), scene);
+    ASSERT_TRUE(r.ok()) << c.file << ": " << r.error().message;
+    EXPECT_EQ(validate_scene(scene), "") << c.file;
+    EXPECT_EQ(scene.textures.size(), c.textures) << c.file;
+    uint64_t textured_vertices = 0;
+    for (const Object& o : scene.objects)
+      if (scene.textured(o)) textured_vertices += o.vertex_count;
+    EXPECT_GT(textured_vertices, 0u) << c.file;
+    EXPECT_EQ(scene.uvs.size(), textured_vertices) << c.file;
+    for (const Texture& t : scene.textures) {
+      auto texels = decode_texture(t);
+      EXPECT_TRUE(texels) << c.file << ": " << (texels ? "" : texels.error().message);
+    }
+  }
+  // glTF's texture coordinates are kept as the file has them (origin top-left): the box's
+  // are within [0, 1].
+  Scene box;
+  ASSERT_TRUE(
+      import_model((kTestModels / "glTF2/BoxTextured-glTF/BoxTextured.gltf").string(), box));
+  for (const glm::vec2& uv : box.uvs) {
+    EXPECT_GE(uv.x, 0.0f);
+    EXPECT_LE(uv.y, 1.0f);
+  }
+}
+
+// A texture that is missing or does not decode refuses the import, naming the file, and
+// leaves the scene as it was; drop_bad_textures imports the colour and reports the texture.
+TEST(Import, MissingAndCorruptTexturesAreRefusedOrDropped) {
+  if (!std::filesystem::is_directory(kTestModels))
+    GTEST_SKIP() << "assimp-testmodels not installed";
+  TempDir dir;
+  const std::filesystem::path box = kTestModels / "glTF2/BoxTextured-glTF";
+  std::filesystem::copy_file(box / "BoxTextured.gltf", dir.file("box.gltf"));
+  std::filesystem::copy_file(box / "BoxTextured0.bin", dir.file("BoxTextured0.bin"));
+  Scene scene = test::make_box_row(1);
+  const Scene before = scene;
+  Result<void> missing = import_model(dir.file("box.gltf"), scene);
+  ASSERT_FALSE(missing);
+  EXPECT_NE(missing.error().message.find("CesiumLogoFlat.png"), std::string::npos)
+      << missing.error().message;
+  EXPECT_NE(missing.error().message.find("not found"), std::string::npos);
+  EXPECT_TRUE(same_scene(scene, before));
+  EXPECT_TRUE(scene.textures.empty() && scene.uvs.empty());
+
+  write_file(dir.file("CesiumLogoFlat.png"), "\x89PNG but then nothing of the kind");
+  Result<void> corrupt = import_model(dir.file("box.gltf"), scene);
+  ASSERT_FALSE(corrupt);
+  EXPECT_NE(corrupt.error().message.find("CesiumLogoFlat.png"), std::string::npos);
+  EXPECT_TRUE(same_scene(scene, before));
+
+  ImportReport report;
+  ImportOptions options;
+  options.drop_bad_textures = true;
+  ASSERT_TRUE(import_model(dir.file("box.gltf"), scene, options, &report));
+  EXPECT_TRUE(scene.textures.empty());
+  ASSERT_EQ(report.dropped_textures.size(), 1u);
+  EXPECT_NE(report.dropped_textures[0].find("CesiumLogoFlat.png"), std::string::npos);
+  EXPECT_EQ(scene.objects.size(), 2u);
+  EXPECT_FALSE(scene.textured(scene.objects[1]));
 }
 
 }  // namespace

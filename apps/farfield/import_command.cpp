@@ -20,7 +20,8 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
   CLI::App* cmd = root.add_subcommand(
       "import",
       "Import model files (OBJ, PLY, OFF, glTF/GLB, STL, DAE, 3DS, IFC, ... through "
-      "assimp) into one .ffscene; node transforms applied, names and colours kept");
+      "assimp) into one .ffscene; node transforms applied, names, colours and base-colour "
+      "textures kept");
   cmd->add_option("files", s->files, "Model files")->required();
   cmd->add_option("--out,-o", s->out, "Output .ffscene file")->required();
   cmd->add_option("--up", s->up,
@@ -34,20 +35,28 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
          "top of a unit the file states (FBX)")
       ->check(number_range(1e-9, 1e6))
       ->capture_default_str();
+  cmd->add_flag("--drop-bad-textures", s->options.drop_bad_textures,
+                "Import a material whose texture is missing or cannot be decoded with its base "
+                "colour (and say which) instead of refusing the import");
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
   commands.push_back(
       {cmd, [s] {
          const auto start = std::chrono::steady_clock::now();
          Progress progress(s->quiet);
          s->options.up = s->up[0];
-         auto scene = import_models(s->files, progress, s->options);
+         ImportReport report;
+         auto scene = import_models(s->files, progress, s->options, &report);
          progress.finish();
          if (!scene) return fail(scene.error().message);
+         for (const std::string& dropped : report.dropped_textures)
+           std::fprintf(stderr, "farfield: dropped a texture, kept the colour: %s\n",
+                        dropped.c_str());
          if (auto ok = write_scene(*scene, s->out); !ok) return fail(ok.error().message);
          std::printf(
-             "wrote %s: %s, %s from %s in %.2f s\n", s->out.c_str(),
+             "wrote %s: %s, %s, %s from %s in %.2f s\n", s->out.c_str(),
              counted(scene->triangle_count(), "triangle").c_str(),
              counted(scene->objects.size(), "object").c_str(),
+             counted(scene->textures.size(), "texture").c_str(),
              counted(s->files.size(), "file").c_str(),
              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
          return 0;

@@ -18,6 +18,7 @@
 #include <string_view>
 #include <system_error>
 #include <tuple>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -32,7 +33,9 @@
 #include <glm/matrix.hpp>
 
 #include "farfield/core/assert.hpp"
+#include "farfield/core/file_reading.hpp"
 #include "farfield/core/text.hpp"
+#include "farfield/scene/texture_image.hpp"
 
 // assimp logs nothing unless someone calls Assimp::DefaultLogger::create (its default logger
 // is a NullLogger), so nothing here touches the logger.
@@ -390,11 +393,60 @@ Material material_of(const aiMaterial& m) {
   if (m.Get(AI_MATKEY_BASE_COLOR, c) != AI_SUCCESS) m.Get(AI_MATKEY_COLOR_DIFFUSE, c);
   float opacity = 1.0f;
   if (m.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS) c.a = opacity;
+  Material out;
   aiString alpha_mode;
-  if (m.Get(AI_MATKEY_GLTF_ALPHAMODE, alpha_mode) == AI_SUCCESS &&
-      std::string_view(alpha_mode.C_Str()) == "OPAQUE")
-    c.a = 1.0f;  // glTF: alpha is ignored in opaque mode
-  return Material{sanitize(glm::vec4(c.r, c.g, c.b, c.a))};
+  if (m.Get(AI_MATKEY_GLTF_ALPHAMODE, alpha_mode) == AI_SUCCESS) {
+    const std::string_view mode = alpha_mode.C_Str();
+    if (mode == "OPAQUE") c.a = 1.0f;  // glTF: alpha is ignored in opaque mode
+    if (mode == "MASK") out.alpha_mode = AlphaMode::mask;
+    if (mode == "BLEND") out.alpha_mode = AlphaMode::blend;
+    float cutoff = 0.5f;
+    if (m.Get(AI_MATKEY_GLTF_ALPHACUTOFF, cutoff) == AI_SUCCESS && std::isfinite(cutoff))
+      out.alpha_cutoff = std::clamp(cutoff, 0.0f, 1.0f);
+  }
+  out.base_color = sanitize(glm::vec4(c.r, c.g, c.b, c.a));
+  return out;
+}
+
+// The material's base-colour texture slot: glTF's base colour, else the diffuse map.
+std::optional<std::pair<aiTextureType, aiString>> base_colour_texture(const aiMaterial& m) {
+  for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
+    aiString path;
+    if (m.GetTextureCount(type) > 0 && m.GetTexture(type, 0, &path) == AI_SUCCESS &&
+        path.length > 0)
+      return std::pair(type, path);
+  }
+  return std::nullopt;
+}
+
+TextureWrap wrap_of(int mode) {
+  switch (mode) {
+    case aiTextureMapMode_Clamp:
+    case aiTextureMapMode_Decal:
+      return TextureWrap::clamp;
+    case aiTextureMapMode_Mirror:
+      return TextureWrap::mirror;
+    default:
+      return TextureWrap::repeat;
+  }
+}
+
+// A texture path as written in a model: Windows separators and %XX escapes undone.
+std::string file_path_of(std::string_view written) {
+  std::string out;
+  for (size_t i = 0; i < written.size(); ++i) {
+    const char ch = written[i];
+    if (ch == '\\') {
+      out += '/';
+    } else if (ch == '%' && i + 2 < written.size() && std::isxdigit(uint8_t(written[i + 1])) &&
+               std::isxdigit(uint8_t(written[i + 2]))) {
+      out += char(std::stoi(std::string(written.substr(i + 1, 2)), nullptr, 16));
+      i += 2;
+    } else {
+      out += ch;
+    }
+  }
+  return out;
 }
 
 // Converts one imported file; objects go straight into `scene`, which the caller rolls back
@@ -408,7 +460,14 @@ class Converter {
         ai_(ai),
         scene_(scene),
         builder_(scene),
-        materials_(ai.mNumMaterials, UINT32_MAX) {}
+        materials_(ai.mNumMaterials, UINT32_MAX),
+        untextured_(ai.mNumMaterials, UINT32_MAX) {}
+
+  Converter& with_textures(bool drop_bad, ImportReport* report) {
+    drop_bad_textures_ = drop_bad;
+    report_ = report;
+    return *this;
+  }
 
   Result<void> run() {
     // Depth first with an explicit stack: a deep hierarchy cannot overflow the call stack.
@@ -443,10 +502,89 @@ class Converter {
     return name.empty() ? stem_ + "/" + std::to_string(instances_) : name;
   }
 
-  uint32_t material(unsigned index) {
-    if (materials_[index] == UINT32_MAX)
-      materials_[index] = builder_.add_material(material_of(*ai_.mMaterials[index]));
-    return materials_[index];
+  // The scene material of an assimp material, with its texture; the same without the
+  // texture for a mesh that has no texture coordinates.
+  Result<uint32_t> material(unsigned index, bool has_uvs) {
+    if (materials_[index] == UINT32_MAX) {
+      const aiMaterial& m = *ai_.mMaterials[index];
+      Material out = material_of(m);
+      untextured_[index] = builder_.add_material(out);
+      if (auto slot = base_colour_texture(m)) {
+        auto texture = texture_of(slot->second);
+        if (!texture) return texture.error();
+        if (*texture != kNoTexture) {
+          out.texture = *texture;
+          int u = aiTextureMapMode_Wrap, v = aiTextureMapMode_Wrap;
+          m.Get(AI_MATKEY_MAPPINGMODE_U(slot->first, 0), u);
+          m.Get(AI_MATKEY_MAPPINGMODE_V(slot->first, 0), v);
+          out.wrap_u = wrap_of(u);
+          out.wrap_v = wrap_of(v);
+          aiString mode;
+          if (scene_.textures[*texture].has_alpha && out.alpha_mode == AlphaMode::opaque &&
+              m.Get(AI_MATKEY_GLTF_ALPHAMODE, mode) != AI_SUCCESS)
+            out.alpha_mode = AlphaMode::mask;  // cut-out foliage and fences in OBJ, FBX, ...
+        }
+      }
+      materials_[index] = builder_.add_material(out);
+    }
+    return has_uvs ? materials_[index] : untextured_[index];
+  }
+
+  // The scene texture a model's texture path names (embedded: "*N" or an embedded file's
+  // name; else a file relative to the model), read once per path; kNoTexture when it fails
+  // and the user asked to drop such textures.
+  Result<uint32_t> texture_of(const aiString& written) {
+    const std::string key = written.C_Str();
+    if (auto it = textures_.find(key); it != textures_.end()) return it->second;
+    Result<Texture> texture = make_error("");
+    if (const aiTexture* embedded = ai_.GetEmbeddedTexture(written.C_Str())) {
+      const std::string name = fs::path(path_).filename().string() + " (embedded texture " +
+                               (key.starts_with("*") ? key.substr(1) : key) + ")";
+      if (embedded->mHeight == 0) {  // compressed: mWidth bytes
+        texture = texture_from_image_bytes(
+            name, std::as_bytes(std::span(reinterpret_cast<const char*>(embedded->pcData),
+                                          embedded->mWidth)));
+      } else {
+        Texels texels(int(embedded->mWidth), int(embedded->mHeight));
+        for (size_t i = 0; i < size_t(embedded->mWidth) * embedded->mHeight; ++i) {
+          const aiTexel& t = embedded->pcData[i];
+          texels.rgba[i * 4 + 0] = t.r;
+          texels.rgba[i * 4 + 1] = t.g;
+          texels.rgba[i * 4 + 2] = t.b;
+          texels.rgba[i * 4 + 3] = t.a;
+        }
+        texture = texture_from_texels(name, texels);
+      }
+    } else {
+      // As written, relative to the model; else its file name beside the model (models often
+      // keep the absolute path they were authored with).
+      const fs::path folder = fs::path(path_).parent_path();
+      fs::path file = folder / file_path_of(key);
+      std::error_code ec;
+      if (!fs::is_regular_file(file, ec) &&
+          fs::is_regular_file(folder / fs::path(file_path_of(key)).filename(), ec))
+        file = folder / fs::path(file_path_of(key)).filename();
+      auto opened = ReadableFile::open(file.string());
+      if (!opened) {
+        texture =
+            make_error(file.string(), ": texture not found (named '", key, "' in ", path_, ")");
+      } else {
+        auto bytes = opened->read_all();
+        texture = bytes ? texture_from_image_bytes(file.string(), std::as_bytes(std::span(*bytes)))
+                        : Result<Texture>(bytes.error());
+      }
+    }
+    uint32_t index = kNoTexture;
+    if (texture) {
+      index = builder_.add_texture(std::move(*texture));
+    } else if (!drop_bad_textures_) {
+      return make_error(path_, ": ", texture.error().message,
+                        " (--drop-bad-textures imports it with the material's colour instead)");
+    } else if (report_) {
+      report_->dropped_textures.push_back(texture.error().message);
+    }
+    textures_.emplace(key, index);
+    return index;
   }
 
   Result<void> add_instance(const aiNode& node, const aiMesh& mesh, const glm::dmat4& world) {
@@ -471,7 +609,10 @@ class Converter {
     glm::dmat3 cofactor(glm::cross(m[1], m[2]), glm::cross(m[2], m[0]), glm::cross(m[0], m[1]));
     if (mirrored) cofactor = -cofactor;
 
-    builder_.begin_object(name, ObjectKind::mesh, material(mesh.mMaterialIndex));
+    const aiVector3D* uvs = mesh.mTextureCoords[0];
+    auto material_index = material(mesh.mMaterialIndex, uvs != nullptr);
+    if (!material_index) return material_index.error();
+    builder_.begin_object(name, ObjectKind::mesh, *material_index);
     for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
       glm::vec3 normal(0.0f, 1.0f, 0.0f);
       if (mesh.mNormals) {
@@ -485,7 +626,11 @@ class Converter {
         const aiColor4D& c = mesh.mColors[0][v];
         color = pack_color(sanitize(glm::vec4(c.r, c.g, c.b, c.a)));
       }
-      builder_.add_vertex(positions_[v], normal, color);
+      // assimp gives texture coordinates from the bottom-left; the scene's are glTF's.
+      glm::vec2 uv{};
+      if (uvs) uv = {uvs[v].x, 1.0f - uvs[v].y};
+      if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = {};
+      builder_.add_vertex(positions_[v], normal, color, uv);
     }
     for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
       const aiFace& face = mesh.mFaces[f];
@@ -509,7 +654,11 @@ class Converter {
   const aiScene& ai_;
   Scene& scene_;
   SceneBuilder builder_;
-  std::vector<uint32_t> materials_;  // aiMaterial index -> scene material, UINT32_MAX unused
+  std::vector<uint32_t> materials_;   // aiMaterial index -> scene material, UINT32_MAX unused
+  std::vector<uint32_t> untextured_;  // the same without its texture
+  std::unordered_map<std::string, uint32_t> textures_;  // path as written -> scene texture
+  bool drop_bad_textures_ = false;
+  ImportReport* report_ = nullptr;
   std::vector<glm::vec3> positions_;
   uint64_t instances_ = 0, triangles_ = 0;
 };
@@ -522,6 +671,8 @@ struct Snapshot {
         vertices(s.vertices.size()),
         indices(s.indices.size()),
         names(s.names.size()),
+        uvs(s.uvs.size()),
+        textures(s.textures.size()),
         bounds(s.bounds) {}
   void restore(Scene& s) const {
     s.objects.resize(objects);
@@ -529,9 +680,11 @@ struct Snapshot {
     s.vertices.resize(vertices);
     s.indices.resize(indices);
     s.names.resize(names);
+    s.uvs.resize(uvs);
+    s.textures.resize(textures);
     s.bounds = bounds;
   }
-  size_t objects, materials, vertices, indices, names;
+  size_t objects, materials, vertices, indices, names, uvs, textures;
   Bounds3 bounds;
 };
 
@@ -559,7 +712,8 @@ double file_unit_in_metres(const aiScene& ai) {
 
 }  // namespace
 
-Result<void> import_model(const std::string& path, Scene& scene, const ImportOptions& options) {
+Result<void> import_model(const std::string& path, Scene& scene, const ImportOptions& options,
+                          ImportReport* report) {
   if (options.up != 'y' && options.up != 'z')
     return make_error("--up must be y or z (got ", std::string(1, options.up), ")");
   if (!(std::isfinite(options.scale) && options.scale > 0.0 && options.scale <= 1e6))
@@ -589,18 +743,19 @@ Result<void> import_model(const std::string& path, Scene& scene, const ImportOpt
   glm::dmat4 root = glm::dmat4(scale);
   root[3][3] = 1.0;
   if (options.up == 'z') root = root * glm::dmat4(1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1);
-  Result<void> r = Converter(path, *ai, scene, root).run();
+  Result<void> r =
+      Converter(path, *ai, scene, root).with_textures(options.drop_bad_textures, report).run();
   if (!r) before.restore(scene);
   return r;
 }
 
 Result<Scene> import_models(std::span<const std::string> paths, Progress& progress,
-                            const ImportOptions& options) {
+                            const ImportOptions& options, ImportReport* report) {
   if (paths.empty()) return make_error("import: no input files");
   Scene scene;
   progress.start("import", paths.size());
   for (const std::string& path : paths) {
-    if (auto r = import_model(path, scene, options); !r) {
+    if (auto r = import_model(path, scene, options, report); !r) {
       progress.finish();
       return r.error();
     }
