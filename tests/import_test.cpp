@@ -148,8 +148,8 @@ TEST(Import, FbxUnitsBecomeMetres) {
     GTEST_SKIP() << "assimp-testmodels missing";
   Scene obj, fbx;
   ASSERT_TRUE(import_model(models + "OBJ/spider.obj", obj).ok());
-  // The FBX names textures by the absolute Windows paths it was made with, of which only
-  // SpiderTex.jpg lies beside it (in the models' FBX folder).
+  // The FBX names its textures by the absolute Windows paths it was made with, and none of
+  // them lies beside it.
   EXPECT_FALSE(import_model(models + "FBX/spider.fbx", fbx).ok());
   ImportOptions drop;
   drop.drop_bad_textures = true;
