@@ -356,6 +356,7 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
 
   BenchReport report;
   report.renderer = (*context)->renderer_name();
+  report.scene_texture_gpu_bytes = (*renderer)->scene_texture_bytes();
   report.interleaved = options.interleave;
   report.pipelined = options.pipelined;
   report.width = options.width;

@@ -24,9 +24,15 @@ const TechniqueRecord* find_brute(const BenchReport& report) {
 std::string bench_json(const BenchReport& report, const BenchOptions& options, const Scene& scene,
                        const CameraPath& path) {
   json root;
+  uint64_t texels = 0;
+  for (const Texture& t : scene.textures) texels += uint64_t(t.width) * t.height;
   root["scene"] = {{"file", options.scene_file},
                    {"triangles", scene.triangle_count()},
-                   {"objects", scene.objects.size()}};
+                   {"objects", scene.objects.size()},
+                   {"textures", scene.textures.size()},
+                   {"texels", texels},
+                   {"texture_bytes", scene.texture_bytes()},
+                   {"texture_gpu_bytes", report.scene_texture_gpu_bytes}};
   root["path"] = {{"kind", path.kind}, {"frames", path.frames.size()}};
   root["width"] = options.width;
   root["height"] = options.height;

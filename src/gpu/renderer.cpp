@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "farfield/gpu/lighting.hpp"
 #include "farfield/gpu/scene_chunks.hpp"
 #include "gpu_resources.hpp"
+#include "scene_textures.hpp"
 #include "shaders.hpp"
 
 namespace farfield::gpu {
@@ -42,6 +44,29 @@ struct QuadVertex {
   glm::vec2 texcoord;
 };
 
+// A chunk's texture coordinates, one per vertex (those of untextured objects stay zero),
+// bound to the chunk's VAO at binding 3; no buffer for a chunk without textured objects.
+Result<void> add_texture_coordinates(const Scene& scene, GLuint vao, const SceneChunk& range,
+                                     GLuint& buffer) {
+  std::vector<glm::vec2> uvs;
+  for (const Object& o : scene.objects) {
+    if (o.first_index < range.first_index ||
+        o.first_index >= range.first_index + range.index_count || !scene.textured(o))
+      continue;
+    if (uvs.empty()) uvs.resize(range.vertex_count);
+    std::copy_n(scene.uvs.begin() + o.first_uv, o.vertex_count,
+                uvs.begin() + (o.first_vertex - range.first_vertex));
+  }
+  if (uvs.empty()) return {};
+  if (auto made = make_buffer(buffer, "texture coordinate buffer", uvs.size() * sizeof(glm::vec2),
+                              uvs.data(), 0);
+      !made)
+    return made;
+  glVertexArrayVertexBuffer(vao, 3, buffer, 0, sizeof(glm::vec2));
+  set_attribute(vao, kTexcoordAttrib, 2, GL_FLOAT, GL_FALSE, 0, 3);
+  return {};
+}
+
 }  // namespace
 
 struct Renderer::State {
@@ -50,6 +75,7 @@ struct Renderer::State {
   struct Chunk {
     SceneChunk range;
     GLuint vertex_buffer = 0, index_buffer = 0, vao = 0;
+    GLuint uv_buffer = 0;  // textured scenes: the chunk's texture coordinates (0 elsewhere)
   };
   std::vector<Chunk> chunks;
   // Consecutive scene commands of one chunk, drawn by one multi-draw.
@@ -58,6 +84,9 @@ struct Renderer::State {
   };
   std::vector<SceneBatch> opaque_batches, transparent_batches;
   GLuint material_buffer = 0, indirect_buffer = 0;
+  // Textured scenes only: the arrays and each material's texturing, read per instance.
+  std::unique_ptr<SceneTextures> textures;
+  GLuint texturing_buffer = 0;
   GLuint vao = 0, program = 0;  // vao: bound between draws, reads nothing
   GpuResources resources;
   GLuint proxy_program = 0, textured_program = 0;
@@ -92,13 +121,13 @@ struct Renderer::State {
 
   ~State() {
     for (const Chunk& c : chunks) {
-      const GLuint chunk_buffers[] = {c.vertex_buffer, c.index_buffer};
-      glDeleteBuffers(2, chunk_buffers);
+      const GLuint chunk_buffers[] = {c.vertex_buffer, c.index_buffer, c.uv_buffer};
+      glDeleteBuffers(3, chunk_buffers);
       glDeleteVertexArrays(1, &c.vao);
     }
-    const GLuint buffers[] = {material_buffer, indirect_buffer, stream_buffer, quad_buffer,
-                              line_buffer};
-    glDeleteBuffers(5, buffers);
+    const GLuint buffers[] = {material_buffer, indirect_buffer, stream_buffer,
+                              quad_buffer,     line_buffer,     texturing_buffer};
+    glDeleteBuffers(6, buffers);
     const GLuint vaos[] = {vao, quad_vao, line_vao};
     glDeleteVertexArrays(3, vaos);
     glDeleteProgram(program);
@@ -279,6 +308,7 @@ struct Renderer::State {
     glBindVertexArray(vao);
     glProgramUniformMatrix4fv(program, kViewProjectionUniform, 1, GL_FALSE,
                               glm::value_ptr(view_projection));
+    if (textures) textures->bind();
   }
 
   // Grows a stream buffer (and points `vao`'s binding 0 at it) to hold `count` vertices.
@@ -411,6 +441,19 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
                               materials.size() * sizeof(Material), materials.data(), 0);
       !made)
     return made.error();
+  const bool textured = std::any_of(scene.materials.begin(), scene.materials.end(),
+                                    [](const Material& m) { return m.textured(); });
+  if (textured) {
+    auto textures = SceneTextures::create(scene);
+    if (!textures) return textures.error();
+    s.textures = std::make_unique<SceneTextures>(std::move(*textures));
+    std::vector<MaterialTexturing> texturing = s.textures->materials();
+    texturing.push_back({});  // the white material: untextured
+    if (auto made = make_buffer(s.texturing_buffer, "material texturing buffer",
+                                texturing.size() * sizeof(MaterialTexturing), texturing.data(), 0);
+        !made)
+      return made.error();
+  }
   for (const SceneChunk& range : s.chunk_ranges) {
     State::Chunk& c = s.chunks.emplace_back();
     c.range = range;
@@ -435,10 +478,21 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
                   offsetof(Vertex, normal));
     set_attribute(c.vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(Vertex, color));
     set_attribute(c.vao, kMaterialAttrib, 4, GL_FLOAT, GL_FALSE, 0, 1);  // per instance
+    if (textured) {
+      if (auto ok = add_texture_coordinates(scene, c.vao, range, c.uv_buffer); !ok)
+        return ok.error();
+      glVertexArrayVertexBuffer(c.vao, 2, s.texturing_buffer, 0, sizeof(MaterialTexturing));
+      glVertexArrayBindingDivisor(c.vao, 2, 1);
+      glEnableVertexArrayAttrib(c.vao, kTexturingAttrib);
+      glVertexArrayAttribIFormat(c.vao, kTexturingAttrib, 3, GL_INT, 0);
+      glVertexArrayAttribBinding(c.vao, kTexturingAttrib, 2);
+      set_attribute(c.vao, kCutoffAttrib, 1, GL_FLOAT, GL_FALSE,
+                    offsetof(MaterialTexturing, cutoff), 2);
+    }
   }
   glCreateVertexArrays(1, &s.vao);
 
-  s.program = build_scene_program();
+  s.program = textured ? build_textured_scene_program() : build_scene_program();
   const std::array<glm::vec3, 2> lights = light_directions();
   glProgramUniform3fv(s.program, kLightDirUniform, 2, glm::value_ptr(lights[0]));
   glProgramUniform1f(s.program, kLightWeightUniform, kLightWeight);
@@ -564,6 +618,14 @@ void Renderer::set_offscreen(int width, int height) {
             height, status);
   s.offscreen_width = width;
   s.offscreen_height = height;
+}
+
+void Renderer::set_texture_filter(TextureFilter filter) {
+  if (state_->textures) state_->textures->set_nearest(filter == TextureFilter::nearest);
+}
+
+uint64_t Renderer::scene_texture_bytes() const {
+  return state_->textures ? state_->textures->bytes() : 0;
 }
 
 void Renderer::set_clear_alpha(float alpha) {

@@ -12,6 +12,8 @@ enum : GLuint {
   kColorAttrib = 2,
   kMaterialAttrib = 3,
   kTexcoordAttrib = 4,
+  kTexturingAttrib = 5,  // ivec3: a material's texture array, layer, modes (scene_textures.hpp)
+  kCutoffAttrib = 6,     // float: its alpha cutoff
 };
 // Uniform locations.
 enum : GLint {
@@ -25,6 +27,9 @@ enum : GLint {
 // Compiles and links the scene shading program. A compile or link error is a programming
 // error: it asserts with the GL info log.
 GLuint build_scene_program();
+// The same for a scene with textures: texture coordinate (location 4), the material's
+// texturing (5, 6), its texture arrays on units 0..7.
+GLuint build_textured_scene_program();
 // The unlit program of proxy geometry: position (location 0), colour (location 2), the
 // view-projection matrix at kViewProjectionUniform.
 GLuint build_proxy_program();

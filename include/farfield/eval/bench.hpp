@@ -70,7 +70,8 @@ struct TechniqueRecord {
 };
 
 struct BenchReport {
-  std::string renderer;  // GL_RENDERER
+  std::string renderer;                  // GL_RENDERER
+  uint64_t scene_texture_gpu_bytes = 0;  // the scene's texture arrays, mipmaps included
   bool interleaved = false, pipelined = false;
   int width = 0, height = 0;
   std::vector<TechniqueRecord> techniques;

@@ -3,8 +3,10 @@
 // ranges first, then transparent ranges blended without depth writes. Technique meshes and textures
 // are made through the Device interface and named by handle in the lists. Shading: paper 000,
 // Sec. 5.3, two directional lights opposite each other 14 degrees above the horizon, plus ambient;
-// colour = vertex colour x material base colour. Depth: reversed-Z float buffer (View's
-// projection).
+// colour = vertex colour x material base colour (x its texture in a textured scene: the
+// scene's textures live in array textures by size, scene_textures.hpp, so textured and
+// untextured ranges go out in the same multi-draws; an untextured scene keeps the untextured
+// program). Depth: reversed-Z float buffer (View's projection).
 //
 // Needs a current Context. Not thread-safe.
 #pragma once
@@ -71,6 +73,12 @@ class Renderer final : public Device {
   // The alpha channel of the last frame, rows from the top: the clear colour's alpha where
   // nothing was drawn (see set_clear_alpha), the surfaces' coverage elsewhere.
   std::vector<uint8_t> capture_alpha();
+  // How scene textures are sampled: trilinear from their mipmaps (the default), or the
+  // nearest texel (for comparisons with a CPU ray cast).
+  enum class TextureFilter { trilinear, nearest };
+  void set_texture_filter(TextureFilter filter);
+  // GPU memory of the scene's textures (mipmaps included); 0 for an untextured scene.
+  uint64_t scene_texture_bytes() const;
   // The alpha the sky is cleared to (1 by default; 0 lets a bake find the empty pixels).
   void set_clear_alpha(float alpha);
 
