@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "farfield/core/codec.hpp"
+#include "farfield/scene/texture_sampler.hpp"
 
 namespace farfield {
 namespace {
@@ -93,6 +94,40 @@ TEST(TextureImage, CorruptImagesAreRefusedByName) {
   auto texels = decode_texture(lying);
   ASSERT_FALSE(texels);
   EXPECT_NE(texels.error().message.find("lie.png"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace farfield
+
+namespace farfield {
+namespace {
+
+// The CPU sampler: the nearest texel of the top level for a small footprint, the box-filtered
+// level matching a larger one, coordinates wrapped as the shader wraps them.
+TEST(TextureSampler, LevelsFollowTheFootprintAndWrapModesApply) {
+  RgbaImage image(4, 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) {
+      uint8_t* t = image.texel(x, y);
+      t[0] = (x + y) % 2 ? 255 : 0;
+      t[3] = 255;
+    }
+  const TextureSampler sampler(image);
+  EXPECT_FLOAT_EQ(sampler.sample({0.1f, 0.1f}, 1.0f, TextureWrap::repeat, TextureWrap::repeat).r,
+                  0.0f);
+  EXPECT_FLOAT_EQ(sampler.sample({0.3f, 0.1f}, 1.0f, TextureWrap::repeat, TextureWrap::repeat).r,
+                  1.0f);
+  // A footprint of 4 texels reads the 1 x 1 level: the checker's mean.
+  EXPECT_NEAR(sampler.sample({0.1f, 0.1f}, 4.0f, TextureWrap::repeat, TextureWrap::repeat).r, 0.5f,
+              0.01f);
+  // 1.3 repeats to 0.3, clamps to 1 (the last texel), mirrors to 0.7.
+  EXPECT_FLOAT_EQ(sampler.sample({1.3f, 0.1f}, 1.0f, TextureWrap::repeat, TextureWrap::repeat).r,
+                  1.0f);
+  EXPECT_FLOAT_EQ(sampler.sample({1.3f, 0.1f}, 1.0f, TextureWrap::clamp, TextureWrap::repeat).r,
+                  1.0f);
+  EXPECT_FLOAT_EQ(wrap_texture_coordinate(1.3f, TextureWrap::mirror), 0.7f);
+  EXPECT_FLOAT_EQ(wrap_texture_coordinate(-0.25f, TextureWrap::repeat), 0.75f);
+  EXPECT_FLOAT_EQ(wrap_texture_coordinate(-0.25f, TextureWrap::clamp), 0.0f);
 }
 
 }  // namespace

@@ -181,13 +181,15 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
   const int c = o.leaf.cluster, per_cell = c * c * c;
   std::vector<ColorCube> cubes(tree.cells.size() * size_t(per_cell));
   const std::vector<uint32_t> materials = triangle_materials(scene);
+  auto textures = leaf_textures(scene);
+  if (!textures) return textures.error();
   const size_t leaves = split.leaf_cells.size();
   std::atomic<size_t> next{0}, done{0};
   auto work = [&] {
     for (size_t i; (i = next.fetch_add(1)) < leaves; done.fetch_add(1)) {
       const uint32_t cell = split.leaf_cells[i];
-      std::vector<ColorCube> baked =
-          bake_leaf(scene, materials, split.leaf_triangles[i], tree.cells[cell].bounds, o.leaf);
+      std::vector<ColorCube> baked = bake_leaf(scene, materials, split.leaf_triangles[i],
+                                               tree.cells[cell].bounds, o.leaf, *textures);
       std::copy(baked.begin(), baked.end(), cubes.begin() + size_t(cell) * per_cell);
     }
   };

@@ -37,7 +37,7 @@ float edge(const glm::vec2& a, const glm::vec2& b, const glm::vec2& p) {
 // Renders the triangles as seen by a viewer on the `face` side of `cell`, looking inwards.
 void render_direction(const Scene& scene, std::span<const uint32_t> materials,
                       std::span<const uint32_t> triangles, const Bounds3& cell, int face,
-                      SlabImages& out) {
+                      const LeafTextures& textures, SlabImages& out) {
   const int axis = face_axis(face), sign = face_sign(face);
   const int u = (axis + 1) % 3, v = (axis + 2) % 3;
   const float size = cell.max[axis] - cell.min[axis];
@@ -76,6 +76,23 @@ void render_direction(const Scene& scene, std::span<const uint32_t> materials,
       normals[i] = side * unpack_normal(vert[i]->normal);
       colors[i] = glm::vec3(unpack_color(vert[i]->color)) * tint;
     }
+    // Texture coordinates are affine in the orthographic image: their gradient per pixel,
+    // from the barycentric gradients, gives the footprint in texels (the mip level).
+    const TextureSampler* sampler = nullptr;
+    glm::vec2 uv[3]{}, duv_dx{}, duv_dy{};
+    float footprint = 0.0f;
+    if (material.textured() && !textures.vertex_uv.empty() &&
+        textures.vertex_uv[idx[0]] != kNoTexture) {
+      sampler = &textures.samplers[material.texture];
+      for (int i = 0; i < 3; ++i) uv[i] = scene.uvs[textures.vertex_uv[idx[i]]];
+      for (int i = 0; i < 3; ++i) {
+        const glm::vec2 &a = s[(i + 1) % 3], &b = s[(i + 2) % 3];
+        duv_dx += uv[i] * (-(b.y - a.y) / area);
+        duv_dy += uv[i] * ((b.x - a.x) / area);
+      }
+      const glm::vec2 texels(float(sampler->width()), float(sampler->height()));
+      footprint = std::max(glm::length(duv_dx * texels), glm::length(duv_dy * texels));
+    }
     for (int y = y0; y <= y1; ++y) {
       for (int x = x0; x <= x1; ++x) {
         const glm::vec2 c(float(x) + 0.5f, float(y) + 0.5f);
@@ -93,12 +110,20 @@ void render_direction(const Scene& scene, std::span<const uint32_t> materials,
         const int slab = std::min(out.slabs - 1, int(depth / slab_depth));
         const size_t at = out.at(slab, x, y);
         if (depth >= out.depth[at]) continue;
+        glm::vec3 color = b0 * colors[0] + b1 * colors[1] + b2 * colors[2];
+        if (sampler) {
+          const glm::vec4 texel = sampler->sample(b0 * uv[0] + b1 * uv[1] + b2 * uv[2], footprint,
+                                                  material.wrap_u, material.wrap_v);
+          if (material.alpha_mode == AlphaMode::mask &&
+              material.base_color.a * texel.a < material.alpha_cutoff)
+            continue;  // cut out, as the shader discards it
+          color *= glm::vec3(texel);
+        }
         glm::vec3 n = b0 * normals[0] + b1 * normals[1] + b2 * normals[2];
         const float length = glm::length(n);
         n = length > 0.0f ? n / length : toward_viewer;
         out.depth[at] = depth;
-        out.color[at] = b0 * colors[0] + b1 * colors[1] + b2 * colors[2];
-        out.color[at] = gpu::shade(n, out.color[at]);
+        out.color[at] = gpu::shade(n, color);
       }
     }
   }
@@ -113,16 +138,30 @@ std::vector<uint32_t> triangle_materials(const Scene& scene) {
   return materials;
 }
 
+Result<LeafTextures> leaf_textures(const Scene& scene) {
+  LeafTextures out;
+  if (scene.textures.empty()) return out;
+  auto samplers = scene_texture_samplers(scene);
+  if (!samplers) return samplers.error();
+  out.samplers = std::move(*samplers);
+  out.vertex_uv.assign(scene.vertices.size(), kNoTexture);
+  for (const Object& o : scene.objects)
+    if (scene.textured(o))
+      for (uint32_t i = 0; i < o.vertex_count; ++i)
+        out.vertex_uv[o.first_vertex + i] = o.first_uv + i;
+  return out;
+}
+
 std::vector<ColorCube> bake_leaf(const Scene& scene, std::span<const uint32_t> materials,
                                  std::span<const uint32_t> triangles, const Bounds3& cell,
-                                 const LeafBakeOptions& o) {
+                                 const LeafBakeOptions& o, const LeafTextures& textures) {
   FF_ASSERT(o.oversampling >= 1 && o.oversampling <= 5, "oversampling %d", o.oversampling);
   FF_ASSERT(o.cluster >= 1 && o.cluster <= 64, "cluster %d", o.cluster);
   const int c = o.cluster, k = o.oversampling, r = c * k;
   std::vector<ColorCube> cubes(size_t(c) * c * c);
   for (int face = 0; face < 6; ++face) {
     SlabImages images(r, c);
-    render_direction(scene, materials, triangles, cell, face, images);
+    render_direction(scene, materials, triangles, cell, face, textures, images);
     const int axis = face_axis(face), u = (axis + 1) % 3, v = (axis + 2) % 3;
     for (int slab = 0; slab < c; ++slab) {
       for (int cy = 0; cy < c; ++cy) {

@@ -6,8 +6,9 @@
 // cube behind another still gets its own colour.
 //
 // Rendering is a small CPU rasterizer sampling pixel centres, with the renderer's lighting
-// (gpu/lighting.hpp) and culling (back faces of opaque materials dropped), so baked colours
-// match drawn ones. Pure CPU: bakes run on every core without a GL context.
+// (gpu/lighting.hpp), culling (back faces of opaque materials dropped) and textures (sampled
+// from the mip level of the pixel's footprint, mask materials cut out below their cutoff), so
+// baked colours match drawn ones. Pure CPU: bakes run on every core without a GL context.
 #pragma once
 
 #include <cstdint>
@@ -15,7 +16,9 @@
 #include <vector>
 
 #include "farfield/core/bounds.hpp"
+#include "farfield/core/result.hpp"
 #include "farfield/scene/scene.hpp"
+#include "farfield/scene/texture_sampler.hpp"
 #include "farfield/techniques/colorcube/color_cube.hpp"
 
 namespace farfield {
@@ -34,12 +37,21 @@ struct LeafBakeOptions {
 // The material of every triangle of the scene, for bake_leaf (4 bytes per triangle).
 std::vector<uint32_t> triangle_materials(const Scene& scene);
 
+// What bake_leaf needs of a textured scene: its textures decoded, and each vertex's texture
+// coordinate (an index into Scene::uvs, kNoTexture where it has none). Empty for a scene
+// without textures; refused naming a texture that does not decode.
+struct LeafTextures {
+  std::vector<TextureSampler> samplers;
+  std::vector<uint32_t> vertex_uv;
+};
+Result<LeafTextures> leaf_textures(const Scene& scene);
+
 // `triangles` are triangle numbers of `scene` (index / 3); `materials` from
 // triangle_materials(). `cell` must be a cube. Returns c^3 cubes, cube (x, y, z) at
 // x + c (y + c z), x along +X from cell.min. Semi-transparent materials count as opaque
 // (their colour, both sides drawn, as the renderer draws them without culling).
 std::vector<ColorCube> bake_leaf(const Scene& scene, std::span<const uint32_t> materials,
                                  std::span<const uint32_t> triangles, const Bounds3& cell,
-                                 const LeafBakeOptions& options);
+                                 const LeafBakeOptions& options, const LeafTextures& textures = {});
 
 }  // namespace farfield
