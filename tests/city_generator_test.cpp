@@ -66,6 +66,37 @@ TEST(CityGenerator, SameSeedAndOptionsGiveTheSameScene) {
   EXPECT_EQ(a.names, b.names);
 }
 
+// --textures adds textures and texture coordinates and changes no vertex or index: the same
+// city, so that textured and untextured runs compare on the same geometry.
+TEST(CityGenerator, TexturesKeepTheGeometry) {
+  CityOptions o = small_city(2);
+  const Scene plain = generate(o);
+  o.textures = true;
+  const Scene textured = generate(o);
+  EXPECT_TRUE(same_bytes(textured.vertices, plain.vertices));
+  EXPECT_EQ(textured.indices, plain.indices);
+  EXPECT_EQ(textured.names, plain.names);
+  EXPECT_EQ(validate_scene(textured), "");
+  ASSERT_EQ(textured.textures.size(), 3u);
+  EXPECT_TRUE(plain.textures.empty() && plain.uvs.empty());
+  size_t by_kind[size_t(ObjectKind::count_)] = {};
+  for (const Object& obj : textured.objects)
+    if (textured.textured(obj)) ++by_kind[size_t(obj.kind)];
+  EXPECT_GT(by_kind[size_t(ObjectKind::building)], 0u);
+  EXPECT_GT(by_kind[size_t(ObjectKind::street)], 0u);
+  EXPECT_GT(by_kind[size_t(ObjectKind::ground)], 0u);
+  EXPECT_EQ(by_kind[size_t(ObjectKind::tree)], 0u);
+  for (const Object& obj : textured.objects) {  // glass stays untextured
+    if (textured.materials[obj.material].transparent()) {
+      EXPECT_FALSE(textured.textured(obj));
+    }
+  }
+  // The textures are the same bytes whatever the seed.
+  o.seed = 99;
+  const Scene other = generate(o);
+  for (size_t i = 0; i < 3; ++i) EXPECT_EQ(other.textures[i].encoded, textured.textures[i].encoded);
+}
+
 TEST(CityGenerator, DifferentSeedsGiveDifferentCities) {
   CityOptions options = small_city(2);
   const Scene a = generate(options);

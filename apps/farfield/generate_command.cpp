@@ -47,6 +47,9 @@ void add_city(CLI::App& generate, std::vector<Command>& commands) {
                   "Grow the (square) grid of blocks until the city has at least this many "
                   "triangles; overrides --blocks")
       ->capture_default_str();
+  cmd->add_flag("--textures", c.textures,
+                "Procedural textures (brick facades, paving, asphalt) on buildings, sidewalks and "
+                "streets; the same geometry as without");
   cmd->add_option("--max-height", c.max_height, "Maximum height of the city, m")
       ->capture_default_str();
   cmd->add_option("--block-length", c.block_length, "Length of a block along X, m")

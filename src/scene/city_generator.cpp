@@ -11,6 +11,7 @@
 
 #include "farfield/core/text.hpp"
 #include "farfield/core/assert.hpp"
+#include "city_textures.hpp"
 #include "mesh_primitives.hpp"
 #include "random.hpp"
 
@@ -95,14 +96,27 @@ constexpr uint64_t kBlockMost = UINT32_MAX / 2;
 // piece and curb (paper 000, App. A).
 class CityWriter {
  public:
-  CityWriter(Scene& scene, const CityOptions& o)
+  // `with_textures`: o.textures applies (the sizing pass leaves textures out: they change no
+  // count).
+  CityWriter(Scene& scene, const CityOptions& o, bool with_textures = false)
       : scene_(scene),
         b_(scene),
         o_(o),
         opaque_(b_.add_material(Material{glm::vec4(1.0f)})),
         glass_(b_.add_material(Material{glm::vec4(1.0f, 1.0f, 1.0f, 0.5f)})),
         street_y_(static_cast<float>(o.street_height)),
-        ground_y_(static_cast<float>(o.street_height + o.curb_height)) {}
+        ground_y_(static_cast<float>(o.street_height + o.curb_height)) {
+    if (!(with_textures && o.textures)) return;
+    auto textured = [&](const char* name, const Texels& texels) {
+      auto texture = texture_from_texels(name, texels);
+      FF_ASSERT(texture.ok(), "%s", texture.ok() ? "" : texture.error().message.c_str());
+      return b_.add_material(
+          Material{.base_color = glm::vec4(1.0f), .texture = b_.add_texture(std::move(*texture))});
+    };
+    facade_ = textured("city facade (procedural)", city::facade_texels());
+    paving_ = textured("city paving (procedural)", city::paving_texels());
+    asphalt_ = textured("city asphalt (procedural)", city::asphalt_texels());
+  }
 
   // Blocks start at x = street_width and repeat every block_length + street_width.
   Rect block_rect(uint32_t bx, uint32_t bz) const {
@@ -118,7 +132,7 @@ class CityWriter {
   void street_piece(const char* kind, uint32_t i, uint32_t j, const Rect& r);
   void open(ObjectKind kind, std::string_view what, int index = -1, int sub = -1,
             bool glass = false);
-  void close() { b_.end_object(); }
+  void close();
 
   void curbs(const Rect& block);
   void street_trees(const Rect& block);
@@ -135,6 +149,8 @@ class CityWriter {
   SceneBuilder b_;
   const CityOptions& o_;
   uint32_t opaque_, glass_;
+  // --textures: the materials of walls, sidewalks and streets (kNoTexture: none).
+  uint32_t facade_ = kNoTexture, paving_ = kNoTexture, asphalt_ = kNoTexture;
   float street_y_, ground_y_;
   Rng rng_{0};
   std::string prefix_, name_;
@@ -149,7 +165,24 @@ void CityWriter::open(ObjectKind kind, std::string_view what, int index, int sub
   name_ += what;
   if (index >= 0) (name_ += '_') += std::to_string(index);
   if (sub >= 0) (name_ += '_') += std::to_string(sub);
-  b_.begin_object(name_, kind, glass ? glass_ : opaque_);
+  uint32_t material = glass ? glass_ : opaque_;
+  if (facade_ != kNoTexture && !glass) {
+    if (kind == ObjectKind::building) material = facade_;
+    if (kind == ObjectKind::ground) material = paving_;
+    if (kind == ObjectKind::street) material = asphalt_;
+  }
+  b_.begin_object(name_, kind, material);
+}
+
+void CityWriter::close() {
+  const size_t objects = scene_.objects.size();
+  b_.end_object();
+  if (scene_.objects.size() == objects) return;  // nothing drawn: dropped
+  const Object& o = scene_.objects.back();
+  if (!scene_.textured(o)) return;
+  // Bricks a quarter of a metre high on walls, slabs of a metre on sidewalks.
+  const float tile = o.material == facade_ ? 2.0f : o.material == paving_ ? 4.0f : 8.0f;
+  city::project_texture_coordinates(scene_, o, tile);
 }
 
 // Streets run between and around the blocks: one piece per stretch between two crossings and
@@ -620,7 +653,7 @@ Result<Scene> generate_city(const CityOptions& options, Progress& progress) {
   scene.vertices.reserve(total.vertices);
   scene.indices.reserve(total.triangles * 3);
   scene.names.reserve(total.name_bytes);
-  CityWriter writer(scene, options);
+  CityWriter writer(scene, options, true);
   progress.start("generate city", uint64_t(nx) * nz);
   writer.streets(nx, nz);
   for (uint32_t bz = 0; bz < nz; ++bz) {

@@ -54,6 +54,9 @@ struct CityOptions {                 // paper 000, App. A: the generator's param
   // detail, ignoring blocks_x and blocks_z) from 1 x 1 until the city has at least this many
   // triangles; at most 1e9.
   uint64_t target_triangles = 0;
+  // Procedural textures (city_textures.hpp) on building walls and roofs (not glass), streets
+  // and sidewalks; the geometry is the same as without.
+  bool textures = false;
 };
 
 // Checks the options; the message names the option and the problem.
