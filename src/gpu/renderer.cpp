@@ -78,16 +78,22 @@ struct Renderer::State {
     GLuint uv_buffer = 0;  // textured scenes: the chunk's texture coordinates (0 elsewhere)
   };
   std::vector<Chunk> chunks;
-  // Consecutive scene commands of one chunk, drawn by one multi-draw.
+  // Consecutive scene commands of one chunk (and in a textured scene of one texture array,
+  // -1 for untextured materials), drawn by one multi-draw.
   struct SceneBatch {
     size_t chunk, first_command, count;
+    int array = -1;
   };
   std::vector<SceneBatch> opaque_batches, transparent_batches;
+  std::vector<int> material_arrays;      // textured scenes: each material's texture array or -1
+  std::vector<DrawRange> sorted_ranges;  // opaque ranges grouped by array, order kept within
   GLuint material_buffer = 0, indirect_buffer = 0;
   // Textured scenes only: the arrays and each material's texturing, read per instance.
   std::unique_ptr<SceneTextures> textures;
   GLuint texturing_buffer = 0;
   GLuint vao = 0, program = 0;  // vao: bound between draws, reads nothing
+  // Textured scenes: the program of textured batches (untextured ones keep `program`).
+  GLuint textured_scene_program = 0;
   GpuResources resources;
   GLuint proxy_program = 0, textured_program = 0;
   // A run of consecutive MeshDraws of one mesh and texture, drawn by one call: commands in
@@ -131,6 +137,7 @@ struct Renderer::State {
     const GLuint vaos[] = {vao, quad_vao, line_vao};
     glDeleteVertexArrays(3, vaos);
     glDeleteProgram(program);
+    glDeleteProgram(textured_scene_program);
     glDeleteProgram(proxy_program);
     glDeleteProgram(textured_program);
     glDeleteProgram(quad_program);
@@ -141,23 +148,37 @@ struct Renderer::State {
   }
 
   // Appends the commands of scene ranges, split where a range crosses chunks, and their
-  // batches: runs of one chunk, in the list's order (blending depends on it).
-  void add_scene_ranges(const std::vector<DrawRange>& ranges, std::vector<SceneBatch>& batches) {
+  // batches: runs of one chunk and texture array, in the list's order (blending depends on
+  // it). In a textured scene opaque ranges are first grouped by texture array (depth-tested,
+  // their order does not change the image), so that each multi-draw samples one array chosen
+  // by a uniform: a per-pixel choice among arrays costs every array's fetch on llvmpipe.
+  void add_scene_ranges(const std::vector<DrawRange>& ranges, std::vector<SceneBatch>& batches,
+                        bool opaque) {
     batches.clear();
-    for (const DrawRange& r : ranges) {
+    const std::vector<DrawRange>* in = &ranges;
+    if (opaque && !material_arrays.empty()) {
+      sorted_ranges = ranges;
+      std::stable_sort(sorted_ranges.begin(), sorted_ranges.end(),
+                       [&](const DrawRange& a, const DrawRange& b) {
+                         return array_of(a.material) < array_of(b.material);
+                       });
+      in = &sorted_ranges;
+    }
+    for (const DrawRange& r : *in) {
       FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
                     uint64_t(r.first_index) + r.index_count <= index_count &&
                     r.material < white_material,
                 "range [%u, +%u) material %u outside the scene's %u indices and %u materials",
                 r.first_index, r.index_count, r.material, index_count, white_material);
+      const int array = array_of(r.material);
       for (uint32_t at = r.first_index, end = r.first_index + r.index_count; at < end;) {
         const size_t c = chunk_of(chunk_ranges, at);
         const SceneChunk& chunk = chunks[c].range;
         const uint32_t stop = std::min(end, chunk.first_index + chunk.index_count);
         FF_ASSERT(at >= chunk.first_index && stop > at, "range [%u, %u) outside every chunk", at,
                   end);
-        if (batches.empty() || batches.back().chunk != c)
-          batches.push_back({c, commands.size(), 0});
+        if (batches.empty() || batches.back().chunk != c || batches.back().array != array)
+          batches.push_back({c, commands.size(), 0, array});
         commands.push_back(
             {stop - at, 1, at - chunk.first_index, -GLint(chunk.first_vertex), r.material});
         batches.back().count++;
@@ -166,13 +187,22 @@ struct Renderer::State {
     }
   }
 
+  int array_of(uint32_t material) const {
+    return material_arrays.empty() ? -1 : material_arrays[material];
+  }
+
   void draw_scene_batches(const std::vector<SceneBatch>& batches) {
     for (const SceneBatch& b : batches) {
       glBindVertexArray(chunks[b.chunk].vao);
+      if (b.array >= 0) {  // the textured program samples this batch's array on unit 0
+        glUseProgram(textured_scene_program);
+        textures->bind(b.array);
+      }
       glMultiDrawElementsIndirect(
           GL_TRIANGLES, GL_UNSIGNED_INT,
           reinterpret_cast<const void*>(b.first_command * sizeof(DrawCommand)), GLsizei(b.count),
           0);
+      if (b.array >= 0) glUseProgram(program);
     }
     glBindVertexArray(vao);
   }
@@ -306,9 +336,10 @@ struct Renderer::State {
     glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &far_depth);
     glUseProgram(program);
     glBindVertexArray(vao);
-    glProgramUniformMatrix4fv(program, kViewProjectionUniform, 1, GL_FALSE,
-                              glm::value_ptr(view_projection));
-    if (textures) textures->bind();
+    for (GLuint p : {program, textured_scene_program})
+      if (p)
+        glProgramUniformMatrix4fv(p, kViewProjectionUniform, 1, GL_FALSE,
+                                  glm::value_ptr(view_projection));
   }
 
   // Grows a stream buffer (and points `vao`'s binding 0 at it) to hold `count` vertices.
@@ -449,6 +480,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
     s.textures = std::make_unique<SceneTextures>(std::move(*textures));
     std::vector<MaterialTexturing> texturing = s.textures->materials();
     texturing.push_back({});  // the white material: untextured
+    for (const MaterialTexturing& t : texturing) s.material_arrays.push_back(t.array);
     if (auto made = make_buffer(s.texturing_buffer, "material texturing buffer",
                                 texturing.size() * sizeof(MaterialTexturing), texturing.data(), 0);
         !made)
@@ -492,11 +524,15 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
   }
   glCreateVertexArrays(1, &s.vao);
 
-  s.program = textured ? build_textured_scene_program() : build_scene_program();
+  s.program = build_scene_program();
+  if (textured) s.textured_scene_program = build_textured_scene_program();
   const std::array<glm::vec3, 2> lights = light_directions();
-  glProgramUniform3fv(s.program, kLightDirUniform, 2, glm::value_ptr(lights[0]));
-  glProgramUniform1f(s.program, kLightWeightUniform, kLightWeight);
-  glProgramUniform1f(s.program, kAmbientUniform, kAmbient);
+  for (GLuint p : {s.program, s.textured_scene_program}) {
+    if (!p) continue;
+    glProgramUniform3fv(p, kLightDirUniform, 2, glm::value_ptr(lights[0]));
+    glProgramUniform1f(p, kLightWeightUniform, kLightWeight);
+    glProgramUniform1f(p, kAmbientUniform, kAmbient);
+  }
 
   // Timestamps rather than GL_TIME_ELAPSED: Mesa 22's llvmpipe returns the absolute clock
   // for the first GL_TIME_ELAPSED query of a context (a start time never recorded).
@@ -516,8 +552,8 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
   State& s = *state_;
   for (const TextureUpload& u : list.uploads) s.resources.upload(u);
   s.commands.clear();
-  s.add_scene_ranges(list.opaque, s.opaque_batches);
-  s.add_scene_ranges(list.transparent, s.transparent_batches);
+  s.add_scene_ranges(list.opaque, s.opaque_batches, true);
+  s.add_scene_ranges(list.transparent, s.transparent_batches, false);
   const size_t scene_commands = s.commands.size();
   s.plan_meshes(list);  // its commands follow the scene's
   s.reserve_commands(s.commands.size());

@@ -126,9 +126,8 @@ void SceneTextures::set_nearest(bool nearest) {
   }
 }
 
-void SceneTextures::bind() const {
-  for (int a = 0; a < kTextureArrays; ++a)
-    if (arrays_[a]) glBindTextureUnit(GLuint(a), arrays_[a]);
+void SceneTextures::bind(int array) const {
+  glBindTextureUnit(0, arrays_[size_t(array)]);
 }
 
 }  // namespace farfield::gpu

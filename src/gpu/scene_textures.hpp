@@ -42,7 +42,7 @@ class SceneTextures {
 
   // One per scene material, in order.
   const std::vector<MaterialTexturing>& materials() const { return materials_; }
-  void bind() const;  // the arrays on units 0..kTextureArrays-1
+  void bind(int array) const;  // that array on unit 0
   // Trilinear (the default) or nearest texel of the top level (tests compare with ray casts).
   void set_nearest(bool nearest);
   uint64_t bytes() const { return bytes_; }  // GPU memory, mipmaps included

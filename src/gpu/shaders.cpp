@@ -44,10 +44,11 @@ void main() {
 
 // The scene program of a scene with textures: the same lighting, the colour times the
 // material's texture (scene_textures.hpp: an array and layer per material, read per instance
-// like the colour), wrapped here, sampled with the derivatives of the unwrapped coordinates
+// like the colour; the renderer draws each array's materials in their own multi-draws, the
+// array on unit 0), wrapped here, sampled with the derivatives of the unwrapped coordinates
 // (taken before any branch) so that mipmaps are chosen across a wrap's seam too; mask
 // materials cut out below their cutoff and are then opaque, blend materials multiply alpha.
-// Untextured scenes keep the program above, pixel for pixel.
+// Untextured materials, in any scene, keep the program above, pixel for pixel.
 constexpr const char* kTexturedSceneVertexShader = R"(#version 450 core
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
@@ -76,18 +77,11 @@ constexpr const char* kTexturedSceneFragmentShader = R"(#version 450 core
 layout(location = 1) uniform vec3 light_dir[2];
 layout(location = 3) uniform float light_weight;
 layout(location = 4) uniform float ambient;
-layout(binding = 0) uniform sampler2DArray side16;
-layout(binding = 1) uniform sampler2DArray side32;
-layout(binding = 2) uniform sampler2DArray side64;
-layout(binding = 3) uniform sampler2DArray side128;
-layout(binding = 4) uniform sampler2DArray side256;
-layout(binding = 5) uniform sampler2DArray side512;
-layout(binding = 6) uniform sampler2DArray side1024;
-layout(binding = 7) uniform sampler2DArray side2048;
+layout(binding = 0) uniform sampler2DArray textures;  // the batch's array
 in vec3 v_normal;
 in vec4 v_color;
 in vec2 v_texcoord;
-flat in ivec3 v_texturing;  // array (-1: none), layer, wrap_u | wrap_v << 2 | alpha << 4
+flat in ivec3 v_texturing;  // array, layer, wrap_u | wrap_v << 2 | alpha << 4
 flat in float v_cutoff;
 layout(location = 0) out vec4 frag_color;
 float wrap(float t, int mode) {
@@ -95,25 +89,13 @@ float wrap(float t, int mode) {
   if (mode == 2) return 1.0 - abs(mod(t, 2.0) - 1.0);  // mirror
   return clamp(t, 0.0, 1.0);                        // clamp
 }
-vec4 texel(int array, vec3 at, vec2 dx, vec2 dy) {
-  switch (array) {
-    case 0: return textureGrad(side16, at, dx, dy);
-    case 1: return textureGrad(side32, at, dx, dy);
-    case 2: return textureGrad(side64, at, dx, dy);
-    case 3: return textureGrad(side128, at, dx, dy);
-    case 4: return textureGrad(side256, at, dx, dy);
-    case 5: return textureGrad(side512, at, dx, dy);
-    case 6: return textureGrad(side1024, at, dx, dy);
-    default: return textureGrad(side2048, at, dx, dy);
-  }
-}
 void main() {
   vec2 dx = dFdx(v_texcoord), dy = dFdy(v_texcoord);
   vec4 c = v_color;
-  if (v_texturing.x >= 0) {
+  {
     int modes = v_texturing.z;
     vec2 uv = vec2(wrap(v_texcoord.x, modes & 3), wrap(v_texcoord.y, (modes >> 2) & 3));
-    vec4 t = texel(v_texturing.x, vec3(uv, float(v_texturing.y)), dx, dy);
+    vec4 t = textureGrad(textures, vec3(uv, float(v_texturing.y)), dx, dy);
     int alpha = (modes >> 4) & 3;
     c.rgb *= t.rgb;
     if (alpha == 1) {

@@ -27,8 +27,8 @@ enum : GLint {
 // Compiles and links the scene shading program. A compile or link error is a programming
 // error: it asserts with the GL info log.
 GLuint build_scene_program();
-// The same for a scene with textures: texture coordinate (location 4), the material's
-// texturing (5, 6), its texture arrays on units 0..7.
+// The same for the textured materials of a scene with textures: texture coordinate (location
+// 4), the material's texturing (5, 6), the batch's texture array on unit 0.
 GLuint build_textured_scene_program();
 // The unlit program of proxy geometry: position (location 0), colour (location 2), the
 // view-projection matrix at kViewProjectionUniform.
