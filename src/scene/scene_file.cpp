@@ -494,7 +494,7 @@ Result<Scene> parse_scene(std::span<const std::byte> bytes, const std::string& n
       [&](void* data, uint64_t size, uint64_t offset) -> Result<void> {
         if (offset > bytes.size() || size > bytes.size() - offset)
           return make_error(name, ": truncated .ffscene file");
-        std::memcpy(data, bytes.data() + offset, size);
+        if (size > 0) std::memcpy(data, bytes.data() + offset, size);
         return {};
       },
       info);
