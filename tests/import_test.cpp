@@ -472,6 +472,11 @@ TEST(Import, TexturedTestModelsKeepTheirTextures) {
       EXPECT_TRUE(texels) << c.file << ": " << (texels ? "" : texels.error().message);
     }
   }
+  // glTF doubleSided becomes a double-sided material.
+  Scene two_sided;
+  ASSERT_TRUE(import_model((kTestModels / "glTF2/BoxTexcoords-glTF/boxTexcoords.gltf").string(),
+                           two_sided));
+  EXPECT_EQ(two_sided.materials[two_sided.objects[0].material].double_sided, 1);
   // glTF's texture coordinates are kept as the file has them (origin top-left): the box's
   // are within [0, 1].
   Scene box;

@@ -73,11 +73,12 @@ TEST(Scene, TexturedObjectsAloneHoldTextureCoordinates) {
   broken = scene;
   broken.textures[0].encoded.clear();
   EXPECT_NE(validate_scene(broken).find("empty image"), std::string::npos);
-  // An untextured scene's fingerprint does not depend on the material fields textures added.
+  // A scene whose materials are colours alone hashes them as version 1 did (the 16-byte
+  // colours: SceneFile.Version1FilesStillRead); any other material field counts.
   Scene plain = test::make_box_row(2);
   const uint64_t before = scene_fingerprint(plain);
-  plain.materials[0].alpha_cutoff = 0.25f;
-  EXPECT_EQ(scene_fingerprint(plain), before);
+  plain.materials[0].double_sided = 1;  // drawn differently: another fingerprint
+  EXPECT_NE(scene_fingerprint(plain), before);
   broken = scene;
   broken.uvs[0].x += 1.0f;
   EXPECT_NE(scene_fingerprint(broken), scene_fingerprint(scene));

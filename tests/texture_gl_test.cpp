@@ -122,5 +122,37 @@ TEST(TextureGL, MaskMaterialsCutOutTransparentTexels) {
   EXPECT_GT((*renderer)->scene_texture_bytes(), 0u);
 }
 
+// A double-sided material shows its back (lit from the eye's side); a single-sided one is
+// culled there, as before.
+TEST(TextureGL, DoubleSidedMaterialsShowTheirBacks) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  View view;
+  view.width = 64;
+  view.height = 48;
+  view.pose.position = {0.0f, 1.0f, 1.0f};  // behind the quad at z = 3, which faces +Z
+  view.pose.yaw_deg = 90.0f;                // towards +Z
+  const uint8_t sky = uint8_t(std::lround(gpu::kSkyColor[2] * 255));
+  for (bool double_sided : {false, true}) {
+    Scene scene = test::make_textured_scene();
+    scene.materials[scene.objects[1].material].double_sided = double_sided;
+    auto renderer = gpu::Renderer::create(scene);
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    (*renderer)->set_offscreen(view.width, view.height);
+    const Object& quad = scene.objects[1];
+    DrawList list;
+    list.opaque.push_back({quad.first_index, quad.index_count, quad.material});
+    list.opaque.push_back(
+        {scene.objects[0].first_index, scene.objects[0].index_count, scene.objects[0].material});
+    (*renderer)->draw(view, list);
+    const Image image = (*renderer)->capture();
+    const uint8_t* centre = image.pixel(view.width / 2, view.height / 2);
+    if (double_sided)
+      EXPECT_NE(centre[2], sky) << "the back of a double-sided quad must be drawn";
+    else
+      EXPECT_EQ(centre[2], sky) << "a single-sided quad is culled from behind";
+  }
+}
+
 }  // namespace
 }  // namespace farfield

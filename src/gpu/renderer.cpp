@@ -6,6 +6,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <compare>
 #include <cstddef>
 #include <memory>
 #include <string>
@@ -78,15 +79,23 @@ struct Renderer::State {
     GLuint uv_buffer = 0;  // textured scenes: the chunk's texture coordinates (0 elsewhere)
   };
   std::vector<Chunk> chunks;
-  // Consecutive scene commands of one chunk (and in a textured scene of one texture array,
-  // -1 for untextured materials), drawn by one multi-draw.
+  // How a material is drawn: its texture array (-1: untextured) and whether back faces are
+  // drawn (double-sided). Ordered: opaque ranges are grouped by it.
+  struct Drawing {
+    int array = -1;
+    bool double_sided = false;
+    auto operator<=>(const Drawing&) const = default;
+  };
+  // Consecutive scene commands of one chunk and one way of drawing, drawn by one multi-draw.
   struct SceneBatch {
     size_t chunk, first_command, count;
-    int array = -1;
+    Drawing drawing;
   };
   std::vector<SceneBatch> opaque_batches, transparent_batches;
-  std::vector<int> material_arrays;      // textured scenes: each material's texture array or -1
-  std::vector<DrawRange> sorted_ranges;  // opaque ranges grouped by array, order kept within
+  bool culling_off = false;       // drawing the transparent pass, which draws both sides anyway
+  std::vector<Drawing> drawings;  // per material, the white one last
+  bool uniform_drawing = true;    // every material is drawn alike: no grouping
+  std::vector<DrawRange> sorted_ranges;  // opaque ranges grouped by drawing, order kept within
   GLuint material_buffer = 0, indirect_buffer = 0;
   // Textured scenes only: the arrays and each material's texturing, read per instance.
   std::unique_ptr<SceneTextures> textures;
@@ -148,19 +157,20 @@ struct Renderer::State {
   }
 
   // Appends the commands of scene ranges, split where a range crosses chunks, and their
-  // batches: runs of one chunk and texture array, in the list's order (blending depends on
-  // it). In a textured scene opaque ranges are first grouped by texture array (depth-tested,
-  // their order does not change the image), so that each multi-draw samples one array chosen
-  // by a uniform: a per-pixel choice among arrays costs every array's fetch on llvmpipe.
+  // batches: runs of one chunk and one way of drawing, in the list's order (blending depends
+  // on it). Where materials are drawn differently, opaque ranges are first grouped by drawing
+  // (depth-tested, their order does not change the image), so that each multi-draw samples
+  // one texture array (a per-pixel choice among arrays costs every array's fetch on
+  // llvmpipe) and culls or not as a whole.
   void add_scene_ranges(const std::vector<DrawRange>& ranges, std::vector<SceneBatch>& batches,
                         bool opaque) {
     batches.clear();
     const std::vector<DrawRange>* in = &ranges;
-    if (opaque && !material_arrays.empty()) {
+    if (opaque && !uniform_drawing) {
       sorted_ranges = ranges;
       std::stable_sort(sorted_ranges.begin(), sorted_ranges.end(),
                        [&](const DrawRange& a, const DrawRange& b) {
-                         return array_of(a.material) < array_of(b.material);
+                         return drawings[a.material] < drawings[b.material];
                        });
       in = &sorted_ranges;
     }
@@ -170,15 +180,15 @@ struct Renderer::State {
                     r.material < white_material,
                 "range [%u, +%u) material %u outside the scene's %u indices and %u materials",
                 r.first_index, r.index_count, r.material, index_count, white_material);
-      const int array = array_of(r.material);
+      const Drawing drawing = drawings[r.material];
       for (uint32_t at = r.first_index, end = r.first_index + r.index_count; at < end;) {
         const size_t c = chunk_of(chunk_ranges, at);
         const SceneChunk& chunk = chunks[c].range;
         const uint32_t stop = std::min(end, chunk.first_index + chunk.index_count);
         FF_ASSERT(at >= chunk.first_index && stop > at, "range [%u, %u) outside every chunk", at,
                   end);
-        if (batches.empty() || batches.back().chunk != c || batches.back().array != array)
-          batches.push_back({c, commands.size(), 0, array});
+        if (batches.empty() || batches.back().chunk != c || batches.back().drawing != drawing)
+          batches.push_back({c, commands.size(), 0, drawing});
         commands.push_back(
             {stop - at, 1, at - chunk.first_index, -GLint(chunk.first_vertex), r.material});
         batches.back().count++;
@@ -187,22 +197,21 @@ struct Renderer::State {
     }
   }
 
-  int array_of(uint32_t material) const {
-    return material_arrays.empty() ? -1 : material_arrays[material];
-  }
-
   void draw_scene_batches(const std::vector<SceneBatch>& batches) {
     for (const SceneBatch& b : batches) {
       glBindVertexArray(chunks[b.chunk].vao);
-      if (b.array >= 0) {  // the textured program samples this batch's array on unit 0
+      const int array = b.drawing.array;
+      if (array >= 0) {  // the textured program samples this batch's array on unit 0
         glUseProgram(textured_scene_program);
-        textures->bind(b.array);
+        textures->bind(array);
       }
+      if (b.drawing.double_sided) glDisable(GL_CULL_FACE);
       glMultiDrawElementsIndirect(
           GL_TRIANGLES, GL_UNSIGNED_INT,
           reinterpret_cast<const void*>(b.first_command * sizeof(DrawCommand)), GLsizei(b.count),
           0);
-      if (b.array >= 0) glUseProgram(program);
+      if (b.drawing.double_sided && !culling_off) glEnable(GL_CULL_FACE);
+      if (array >= 0) glUseProgram(program);
     }
     glBindVertexArray(vao);
   }
@@ -474,18 +483,23 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
     return made.error();
   const bool textured = std::any_of(scene.materials.begin(), scene.materials.end(),
                                     [](const Material& m) { return m.textured(); });
+  for (const Material& m : materials) s.drawings.push_back({-1, m.double_sided != 0});
   if (textured) {
     auto textures = SceneTextures::create(scene);
     if (!textures) return textures.error();
     s.textures = std::make_unique<SceneTextures>(std::move(*textures));
     std::vector<MaterialTexturing> texturing = s.textures->materials();
     texturing.push_back({});  // the white material: untextured
-    for (const MaterialTexturing& t : texturing) s.material_arrays.push_back(t.array);
     if (auto made = make_buffer(s.texturing_buffer, "material texturing buffer",
                                 texturing.size() * sizeof(MaterialTexturing), texturing.data(), 0);
         !made)
       return made.error();
   }
+  if (s.textures)
+    for (size_t i = 0; i < scene.materials.size(); ++i)
+      s.drawings[i].array = s.textures->materials()[i].array;
+  s.uniform_drawing = std::all_of(s.drawings.begin(), s.drawings.end(),
+                                  [&](const State::Drawing& d) { return d == s.drawings[0]; });
   for (const SceneChunk& range : s.chunk_ranges) {
     State::Chunk& c = s.chunks.emplace_back();
     c.range = range;
@@ -575,7 +589,9 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     glDepthMask(GL_FALSE);
     glDisable(GL_CULL_FACE);
+    s.culling_off = true;
     s.draw_scene_batches(s.transparent_batches);
+    s.culling_off = false;
     glDepthMask(GL_TRUE);
     glEnable(GL_CULL_FACE);
     glDisable(GL_BLEND);

@@ -405,6 +405,8 @@ Material material_of(const aiMaterial& m) {
       out.alpha_cutoff = std::clamp(cutoff, 0.0f, 1.0f);
   }
   out.base_color = sanitize(glm::vec4(c.r, c.g, c.b, c.a));
+  int two_sided = 0;  // glTF doubleSided, and the flag of the formats that have one
+  if (m.Get(AI_MATKEY_TWOSIDED, two_sided) == AI_SUCCESS && two_sided) out.double_sided = 1;
   return out;
 }
 

@@ -184,13 +184,18 @@ uint64_t scene_fingerprint(const Scene& s) {
   XXH3_state_t* state = XXH3_createState();
   XXH3_64bits_reset(state);
   XXH3_64bits_update(state, s.objects.data(), s.objects.size() * sizeof(Object));
-  // Base colours alone, then the rest only where a scene has textures: an untextured scene
-  // keeps the fingerprint it had before materials grew, and so its bakes.
-  for (const Material& m : s.materials) XXH3_64bits_update(state, &m.base_color, 16);
+  // Base colours alone, then the rest only where a scene has textures or another material
+  // field than the colour: such a scene keeps the fingerprint it had before materials grew,
+  // and so its bakes.
+  bool extended = !s.textures.empty() || !s.uvs.empty();
+  for (const Material& m : s.materials) {
+    XXH3_64bits_update(state, &m.base_color, 16);
+    extended = extended || !(m == Material{.base_color = m.base_color});
+  }
   XXH3_64bits_update(state, s.vertices.data(), s.vertices.size() * sizeof(Vertex));
   XXH3_64bits_update(state, s.indices.data(), s.indices.size() * sizeof(uint32_t));
   XXH3_64bits_update(state, s.names.data(), s.names.size());
-  if (!s.textures.empty() || !s.uvs.empty()) {
+  if (extended) {
     XXH3_64bits_update(state, s.materials.data(), s.materials.size() * sizeof(Material));
     XXH3_64bits_update(state, s.uvs.data(), s.uvs.size() * sizeof(glm::vec2));
     for (const Texture& t : s.textures) {
@@ -239,6 +244,7 @@ std::string validate_scene(const Scene& s) {
       return at + "unknown wrap mode";
     if (!(m.alpha_cutoff >= 0.0f && m.alpha_cutoff <= 1.0f))
       return at + "alpha cutoff not in [0, 1]";
+    if (m.double_sided > 1) return at + "double-sided flag not 0 or 1";
     for (int c = 0; c < 4; ++c)
       if (!std::isfinite(m.base_color[c])) return at + "base colour not finite";
   }

@@ -68,7 +68,7 @@ struct Material {
   uint32_t texture = kNoTexture;  // base-colour texture, into Scene::textures
   AlphaMode alpha_mode = AlphaMode::opaque;
   TextureWrap wrap_u = TextureWrap::repeat, wrap_v = TextureWrap::repeat;
-  uint8_t reserved = 0;
+  uint8_t double_sided = 0;   // 1: back faces drawn too (glTF doubleSided: leaves, panes)
   float alpha_cutoff = 0.5f;  // for AlphaMode::mask
   uint32_t reserved2 = 0;
   bool textured() const { return texture != kNoTexture; }

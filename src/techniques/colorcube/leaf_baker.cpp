@@ -55,7 +55,8 @@ void render_direction(const Scene& scene, std::span<const uint32_t> materials,
     const float facing = glm::dot(geometric, toward_viewer);
     if (facing == 0.0f) continue;  // seen edge-on: covers nothing
     const Material& material = scene.materials[materials[t]];
-    if (facing < 0.0f && !material.transparent()) continue;  // culled like the renderer does
+    if (facing < 0.0f && !material.transparent() && !material.double_sided)
+      continue;                                       // culled like the renderer does
     const float side = facing < 0.0f ? -1.0f : 1.0f;  // back faces lit from the viewer's side
     const glm::vec3 tint(material.base_color);
     glm::vec2 s[3];
