@@ -17,6 +17,32 @@
 namespace farfield {
 namespace {
 
+// The view at `eye`, towards -Z (yaw -90) or +Z (90), width x height.
+View view_at(glm::vec3 eye, float yaw_deg, int width, int height) {
+  View view;
+  view.width = width;
+  view.height = height;
+  view.pose.position = eye;
+  view.pose.yaw_deg = yaw_deg;
+  return view;
+}
+
+// The given objects of `scene` drawn opaque by a renderer of their own, nearest sampling.
+Result<Image> draw_objects(const Scene& scene, const View& view,
+                           std::initializer_list<int> objects) {
+  auto renderer = gpu::Renderer::create(scene);
+  if (!renderer) return renderer.error();
+  (*renderer)->set_texture_filter(gpu::Renderer::TextureFilter::nearest);
+  (*renderer)->set_offscreen(view.width, view.height);
+  DrawList list;
+  for (int i : objects) {
+    const Object& o = scene.objects[size_t(i)];
+    list.opaque.push_back({o.first_index, o.index_count, o.material});
+  }
+  (*renderer)->draw(view, list);
+  return (*renderer)->capture();
+}
+
 // The quad of make_textured_scene (x in [-1, 1], y in [0, 2], z = 3, facing +Z, texture
 // coordinates (0, 0) at its top-left corner) seen from in front, nearest sampling: every
 // pixel is what a ray through its centre sees (the checker texel under the hit, lit as the
@@ -26,20 +52,10 @@ TEST(TextureGL, TexturedQuadMatchesARayCast) {
   auto context = gpu::create_headless_context();
   if (!context) GTEST_SKIP() << context.error().message;
   const Scene scene = test::make_textured_scene();
-  auto renderer = gpu::Renderer::create(scene);
-  ASSERT_TRUE(renderer) << renderer.error().message;
-  (*renderer)->set_texture_filter(gpu::Renderer::TextureFilter::nearest);
-  View view;
-  view.width = 160;
-  view.height = 120;
-  view.pose.position = {0.1f, 1.05f, 5.0f};
-  view.pose.yaw_deg = -90.0f;  // towards -Z
-  (*renderer)->set_offscreen(view.width, view.height);
-  const Object& quad = scene.objects[1];
-  DrawList list;
-  list.opaque.push_back({quad.first_index, quad.index_count, quad.material});
-  (*renderer)->draw(view, list);
-  const Image image = (*renderer)->capture();
+  const View view = view_at({0.1f, 1.05f, 5.0f}, -90.0f, 160, 120);
+  auto drawn = draw_objects(scene, view, {1});
+  ASSERT_TRUE(drawn) << drawn.error().message;
+  const Image& image = *drawn;
   if (const char* dump = std::getenv("FARFIELD_DUMP")) (void)write_png(image, dump);
 
   auto texels = decode_texture(scene.textures[0]);
@@ -100,25 +116,17 @@ TEST(TextureGL, MaskMaterialsCutOutTransparentTexels) {
   auto texture = texture_from_texels("half.png", half);
   ASSERT_TRUE(texture);
   scene.textures[0] = std::move(*texture);
-  auto renderer = gpu::Renderer::create(scene);
-  ASSERT_TRUE(renderer) << renderer.error().message;
-  (*renderer)->set_texture_filter(gpu::Renderer::TextureFilter::nearest);
-  View view;
-  view.width = 64;
-  view.height = 48;
-  view.pose.position = {0.0f, 1.0f, 5.0f};
-  view.pose.yaw_deg = -90.0f;
-  (*renderer)->set_offscreen(view.width, view.height);
-  const Object& quad = scene.objects[1];
-  DrawList list;
-  list.opaque.push_back({quad.first_index, quad.index_count, quad.material});
-  (*renderer)->draw(view, list);
-  const Image image = (*renderer)->capture();
+  const View view = view_at({0.0f, 1.0f, 5.0f}, -90.0f, 64, 48);
+  auto drawn = draw_objects(scene, view, {1});
+  ASSERT_TRUE(drawn) << drawn.error().message;
+  const Image& image = *drawn;
   const uint8_t* left = image.pixel(view.width / 2 - 6, view.height / 2);
   const uint8_t* right = image.pixel(view.width / 2 + 6, view.height / 2);
   EXPECT_GT(left[0], 100);
   EXPECT_LT(left[2], 10);                                          // red
   EXPECT_NEAR(right[2], std::lround(gpu::kSkyColor[2] * 255), 1);  // sky
+  auto renderer = gpu::Renderer::create(scene);
+  ASSERT_TRUE(renderer);
   EXPECT_GT((*renderer)->scene_texture_bytes(), 0u);
 }
 
@@ -127,26 +135,15 @@ TEST(TextureGL, MaskMaterialsCutOutTransparentTexels) {
 TEST(TextureGL, DoubleSidedMaterialsShowTheirBacks) {
   auto context = gpu::create_headless_context();
   if (!context) GTEST_SKIP() << context.error().message;
-  View view;
-  view.width = 64;
-  view.height = 48;
-  view.pose.position = {0.0f, 1.0f, 1.0f};  // behind the quad at z = 3, which faces +Z
-  view.pose.yaw_deg = 90.0f;                // towards +Z
+  // Behind the quad at z = 3, which faces +Z, looking towards +Z.
+  const View view = view_at({0.0f, 1.0f, 1.0f}, 90.0f, 64, 48);
   const uint8_t sky = uint8_t(std::lround(gpu::kSkyColor[2] * 255));
   for (bool double_sided : {false, true}) {
     Scene scene = test::make_textured_scene();
     scene.materials[scene.objects[1].material].double_sided = double_sided;
-    auto renderer = gpu::Renderer::create(scene);
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    (*renderer)->set_offscreen(view.width, view.height);
-    const Object& quad = scene.objects[1];
-    DrawList list;
-    list.opaque.push_back({quad.first_index, quad.index_count, quad.material});
-    list.opaque.push_back(
-        {scene.objects[0].first_index, scene.objects[0].index_count, scene.objects[0].material});
-    (*renderer)->draw(view, list);
-    const Image image = (*renderer)->capture();
-    const uint8_t* centre = image.pixel(view.width / 2, view.height / 2);
+    auto drawn = draw_objects(scene, view, {1, 0});
+    ASSERT_TRUE(drawn) << drawn.error().message;
+    const uint8_t* centre = drawn->pixel(view.width / 2, view.height / 2);
     if (double_sided)
       EXPECT_NE(centre[2], sky) << "the back of a double-sided quad must be drawn";
     else

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <type_traits>
 
 #include <png.h>
 
@@ -32,76 +33,73 @@ Result<void> check_image_size(uint64_t width, uint64_t height, uint64_t max_pixe
   return {};
 }
 
+namespace {
+
 // libpng's simplified API keeps its setjmp error handling inside libpng, so no longjmp
-// crosses C++ frames; its errors come back in png_image::message.
-Result<std::vector<std::byte>> encode_png(const Image& image) {
-  FF_ASSERT(image.width > 0 && image.height > 0 &&
-                image.rgb.size() == size_t(image.width) * size_t(image.height) * 3,
-            "image %dx%d holds %zu bytes", image.width, image.height, image.rgb.size());
+// crosses C++ frames; its errors come back in png_image::message. `format` is
+// PNG_FORMAT_RGB or PNG_FORMAT_RGBA, `channels` its bytes a pixel.
+Result<std::vector<std::byte>> encode_png_pixels(int width, int height, const uint8_t* pixels,
+                                                 size_t bytes, uint32_t format, int channels) {
+  FF_ASSERT(width > 0 && height > 0 && bytes == size_t(width) * size_t(height) * channels,
+            "image %dx%d holds %zu bytes", width, height, bytes);
   png_image png{};
   png.version = PNG_IMAGE_VERSION;
-  png.width = png_uint_32(image.width);
-  png.height = png_uint_32(image.height);
-  png.format = PNG_FORMAT_RGB;
+  png.width = png_uint_32(width);
+  png.height = png_uint_32(height);
+  png.format = format;
   png_alloc_size_t size = 0;
-  if (!png_image_write_get_memory_size(png, size, 0, image.rgb.data(), 0, nullptr))
+  if (!png_image_write_get_memory_size(png, size, 0, pixels, 0, nullptr))
     return make_error("cannot encode PNG: ", png.message);
   std::vector<std::byte> out(size);
-  if (!png_image_write_to_memory(&png, out.data(), &size, 0, image.rgb.data(), 0, nullptr))
+  if (!png_image_write_to_memory(&png, out.data(), &size, 0, pixels, 0, nullptr))
     return make_error("cannot encode PNG: ", png.message);
   out.resize(size);
   return out;
+}
+
+// libpng converts grey, palette and 16-bit to `format`, dropping alpha for RGB and making it
+// opaque where the file has none for RGBA.
+template <class Pixels>
+Result<Pixels> decode_png_pixels(std::span<const std::byte> bytes, uint64_t max_pixels,
+                                 uint32_t format) {
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_memory(&png, bytes.data(), bytes.size()))
+    return make_error("not a readable PNG: ", png.message);
+  png.format = format;
+  if (auto ok = check_image_size(png.width, png.height, max_pixels); !ok) {
+    png_image_free(&png);
+    return make_error("PNG ", ok.error().message);
+  }
+  Pixels image(int(png.width), int(png.height));
+  uint8_t* data;
+  if constexpr (std::is_same_v<Pixels, RgbaImage>)
+    data = image.rgba.data();
+  else
+    data = image.rgb.data();
+  if (!png_image_finish_read(&png, nullptr, data, 0, nullptr))
+    return make_error("corrupted PNG: ", png.message);
+  return image;
+}
+
+}  // namespace
+
+Result<std::vector<std::byte>> encode_png(const Image& image) {
+  return encode_png_pixels(image.width, image.height, image.rgb.data(), image.rgb.size(),
+                           PNG_FORMAT_RGB, 3);
 }
 
 Result<Image> decode_png(std::span<const std::byte> bytes, uint64_t max_pixels) {
-  png_image png{};
-  png.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_memory(&png, bytes.data(), bytes.size()))
-    return make_error("not a readable PNG: ", png.message);
-  png.format = PNG_FORMAT_RGB;  // libpng converts grey, palette, 16-bit and drops alpha
-  if (auto ok = check_image_size(png.width, png.height, max_pixels); !ok) {
-    png_image_free(&png);
-    return make_error("PNG ", ok.error().message);
-  }
-  Image image(int(png.width), int(png.height));
-  if (!png_image_finish_read(&png, nullptr, image.rgb.data(), 0, nullptr))
-    return make_error("corrupted PNG: ", png.message);
-  return image;
+  return decode_png_pixels<Image>(bytes, max_pixels, PNG_FORMAT_RGB);
 }
 
 Result<std::vector<std::byte>> encode_png(const RgbaImage& image) {
-  FF_ASSERT(image.width > 0 && image.height > 0 &&
-                image.rgba.size() == size_t(image.width) * size_t(image.height) * 4,
-            "image %dx%d holds %zu bytes", image.width, image.height, image.rgba.size());
-  png_image png{};
-  png.version = PNG_IMAGE_VERSION;
-  png.width = png_uint_32(image.width);
-  png.height = png_uint_32(image.height);
-  png.format = PNG_FORMAT_RGBA;
-  png_alloc_size_t size = 0;
-  if (!png_image_write_get_memory_size(png, size, 0, image.rgba.data(), 0, nullptr))
-    return make_error("cannot encode PNG: ", png.message);
-  std::vector<std::byte> out(size);
-  if (!png_image_write_to_memory(&png, out.data(), &size, 0, image.rgba.data(), 0, nullptr))
-    return make_error("cannot encode PNG: ", png.message);
-  out.resize(size);
-  return out;
+  return encode_png_pixels(image.width, image.height, image.rgba.data(), image.rgba.size(),
+                           PNG_FORMAT_RGBA, 4);
 }
 
 Result<RgbaImage> decode_png_rgba(std::span<const std::byte> bytes, uint64_t max_pixels) {
-  png_image png{};
-  png.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_memory(&png, bytes.data(), bytes.size()))
-    return make_error("not a readable PNG: ", png.message);
-  png.format = PNG_FORMAT_RGBA;
-  if (auto ok = check_image_size(png.width, png.height, max_pixels); !ok) {
-    png_image_free(&png);
-    return make_error("PNG ", ok.error().message);
-  }
-  RgbaImage image(int(png.width), int(png.height));
-  if (!png_image_finish_read(&png, nullptr, image.rgba.data(), 0, nullptr))
-    return make_error("corrupted PNG: ", png.message);
-  return image;
+  return decode_png_pixels<RgbaImage>(bytes, max_pixels, PNG_FORMAT_RGBA);
 }
 
 Result<void> write_png(const Image& image, const std::string& path) {
