@@ -161,8 +161,8 @@ namespace {
 // a leaf cube is drawn once it projects below the tolerance, from a depth of its size over
 // epsilon (paper 002, Sec. 3.1); the farthest a point is seen in the protocol's view (1024 px
 // across 90 degrees) with the whole scene in sight is an orbit's distance plus the radius.
-Result<void> check_cubes_drawable(const Scene& scene, const ColorcubeOptions& o) {
-  const ResolvedDepth resolved = resolve_depth(scene, o.tree);
+Result<void> check_cubes_drawable(const Scene& scene, const ColorcubeOptions& o,
+                                  const ResolvedDepth& resolved) {
   const int c = o.tree.leaf.cluster;
   const double leaf_cube = leaf_cube_side(scene, resolved.depth, c);
   const double epsilon = o.pixel_tolerance * 2.0 / 1024.0;  // tan(45 degrees) = 1
@@ -196,9 +196,14 @@ Result<void> check_cubes_drawable(const Scene& scene, const ColorcubeOptions& o)
 }  // namespace
 
 Result<void> ColorcubeTechnique::bake(const BakeContext& context) {
+  // The depth is resolved once (deriving it sorts every triangle's cell) for the check and
+  // the build.
+  const ResolvedDepth resolved = resolve_depth(context.scene, options_.tree);
   if (!options_.force)
-    if (auto ok = check_cubes_drawable(context.scene, options_); !ok) return ok;
-  auto tree = build_cube_tree(context.scene, options_.tree, context.progress);
+    if (auto ok = check_cubes_drawable(context.scene, options_, resolved); !ok) return ok;
+  CubeTreeOptions tree_options = options_.tree;
+  tree_options.depth = resolved.depth;
+  auto tree = build_cube_tree(context.scene, tree_options, context.progress);
   if (!tree) return make_error("colorcube: ", tree.error().message);
   if (auto ok = save_cube_tree(*tree, context.store); !ok) return ok;
   tree_ = std::move(*tree);

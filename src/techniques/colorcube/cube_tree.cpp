@@ -129,16 +129,16 @@ double leaf_cube_side(const Scene& scene, int depth, int cluster) {
 
 ResolvedDepth resolve_depth(const Scene& scene, const CubeTreeOptions& o) {
   ResolvedDepth r;
+  if (o.depth > 0) {  // as given
+    r.depth = r.detail_depth = o.depth;
+    return r;
+  }
   // Leaf cubes no smaller than the scene's typical triangle: finer ones cost memory and
   // stand for less than a triangle each; coarser ones shrink below the tolerance only
   // farther away, so more of the scene is drawn as triangles.
   const double detail = median_triangle_edge(scene);
   const double side = leaf_cube_side(scene, 0, o.leaf.cluster);
   r.detail_depth = detail > 0.0 ? std::clamp(int(std::floor(std::log2(side / detail))), 1, 12) : 1;
-  if (o.depth > 0) {
-    r.depth = o.depth;
-    return r;
-  }
   if (o.depth_rule == DepthRule::density) {
     // paper 002, Sec. 6.4: depth from primitive density. Deepen while the occupied cells of
     // the level (counted by triangle centroid) hold more than the target on average.

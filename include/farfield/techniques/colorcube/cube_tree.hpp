@@ -88,7 +88,7 @@ Result<CubeTree> load_cube_tree(const Store& store);
 // The depth build_cube_tree uses: options.depth, or the one its rule derives.
 struct ResolvedDepth {
   int depth = 1;
-  int detail_depth = 1;            // where leaf cubes reach the scene's triangle size
+  int detail_depth = 1;  // where leaf cubes reach the scene's triangle size (a given depth: it)
   bool limited_by_leaves = false;  // lowered to stay under options.max_leaves
 };
 ResolvedDepth resolve_depth(const Scene& scene, const CubeTreeOptions& options);
