@@ -242,7 +242,7 @@ TEST(CubeTree, BakeIntoAStoreAndLoadItBack) {
   }
   auto store = Store::open(dir.file("p.ffpack"), Store::Mode::kRead);
   ASSERT_TRUE(store);
-  auto back = load_cube_tree(*store);
+  auto back = load_cube_tree(*store, scene);
   ASSERT_TRUE(back) << back.error().message;
   EXPECT_EQ(back->cells.size(), tree->cells.size());
   EXPECT_EQ(back->proxies.indices, tree->proxies.indices);
@@ -251,7 +251,7 @@ TEST(CubeTree, BakeIntoAStoreAndLoadItBack) {
   // RefusalGL.PacksOfAnotherSceneOrFormatAreRefused).
   auto empty = Store::open(dir.file("empty.ffpack"), Store::Mode::kReadWrite);
   ASSERT_TRUE(empty);
-  EXPECT_FALSE(load_cube_tree(*empty));
+  EXPECT_FALSE(load_cube_tree(*empty, scene));
 }
 
 TEST(CubeTree, BakeCommandWritesAPackInfoDescribes) {
@@ -363,6 +363,52 @@ TEST(ColorcubeSettings, RefusesUnknownInnerFacesValues) {
   ASSERT_FALSE(t);
   EXPECT_NE(t.error().message.find("colorcube.inner_faces"), std::string::npos)
       << t.error().message;
+}
+
+}  // namespace
+}  // namespace farfield
+
+namespace farfield {
+namespace {
+
+// Near leaves draw textured triangles from the scene's own buffers, so they are textured as
+// brute force draws them (a proxy mesh has no texture coordinates); the untextured box beside
+// stays in the proxy mesh.
+TEST(ColorcubeGL, NearTexturedTrianglesAreDrawnTextured) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  const Scene scene = test::make_textured_scene();
+  auto renderer = gpu::Renderer::create(scene);
+  ASSERT_TRUE(renderer);
+  auto brute = make_technique("brute");
+  auto cubes = make_technique("colorcube", test::settings_of({"colorcube.depth=2"}));
+  ASSERT_TRUE(test::load_technique(**brute, scene, renderer->get()));
+  ASSERT_TRUE(test::load_technique(**cubes, scene, renderer->get()));
+  Progress quiet(true);
+  auto tree = build_cube_tree(scene, {.depth = 2}, quiet);
+  ASSERT_TRUE(tree);
+  uint32_t textured = 0;  // the quad's two triangles (in one leaf or two)
+  for (const DrawRange& r : tree->scene_ranges) {
+    EXPECT_EQ(r.material, scene.objects[1].material);
+    textured += r.index_count / 3;
+  }
+  EXPECT_EQ(textured, 2u);
+  EXPECT_EQ(tree->stats.geometry_triangles, 14u);
+  EXPECT_EQ(tree->proxies.vertices.size() % 4, 0u);
+  View view;
+  view.width = 160;
+  view.height = 120;
+  view.pose = {{0.6f, 1.0f, 6.0f}, -90.0f, -5.0f};  // in front of the quad, the box behind it
+  (*renderer)->set_offscreen(view.width, view.height);
+  DrawList list;
+  test::select_view(**brute, view, list);
+  (*renderer)->draw(view, list);
+  const Image reference = (*renderer)->capture();
+  test::select_view(**cubes, view, list);
+  EXPECT_FALSE(list.opaque.empty());
+  (*renderer)->draw(view, list);
+  const ImageComparison c = compare_images(reference, (*renderer)->capture());
+  EXPECT_TRUE(c.identical()) << c.differing_pixels << " pixels differ";
 }
 
 }  // namespace

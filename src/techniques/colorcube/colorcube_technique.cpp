@@ -122,7 +122,7 @@ const TechniqueDescriptor colorcube_descriptor{
     .paper = "002",
     .settings = kSettings,
     .bake = BakeUse::optional,
-    .bake_format = 1,
+    .bake_format = 2,  // 2: leaves' textured triangles as scene ranges
     .make = [](const SettingValues& v,
                const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       ColorcubeOptions o;
@@ -143,8 +143,9 @@ const TechniqueDescriptor colorcube_descriptor{
     },
 };
 
-Result<void> ColorcubeTechnique::use(CubeTree tree, gpu::Device& device) {
+Result<void> ColorcubeTechnique::use(CubeTree tree, const Scene& scene, gpu::Device& device) {
   tree_ = std::move(tree);
+  scene_ = &scene;
   resources_.bind(device);
   auto mesh = resources_.mesh(tree_.proxies.vertices, tree_.proxies.indices);
   if (!mesh) return make_error("colorcube: ", mesh.error().message);
@@ -220,13 +221,13 @@ Result<void> ColorcubeTechnique::load(const LoadContext& context) {
                                   scene_fingerprint(context.scene));
         !usable)
       return usable.error();
-    auto tree = load_cube_tree(*context.store);
+    auto tree = load_cube_tree(*context.store, context.scene);
     if (!tree) return tree.error();
-    return use(std::move(*tree), context.device);
+    return use(std::move(*tree), context.scene, context.device);
   }
   auto tree = build_cube_tree(context.scene, options_.tree, context.progress);
   if (!tree) return make_error("colorcube: ", tree.error().message);
-  return use(std::move(*tree), context.device);
+  return use(std::move(*tree), context.scene, context.device);
 }
 
 void ColorcubeTechnique::select(const FrameInput& input, DrawList& out) {
@@ -282,6 +283,11 @@ void ColorcubeTechnique::select(const FrameInput& input, DrawList& out) {
     if (cell.leaf()) {
       append(out, mesh_, cell.geometry_begin, cell.geometry_count);
       leaf_triangles_drawn_ += cell.geometry_count / 3;
+      for (uint32_t k = 0; k < cell.scene_ranges_count; ++k) {
+        const DrawRange& r = tree_.scene_ranges[cell.scene_ranges_begin + k];
+        (scene_->materials[r.material].transparent() ? out.transparent : out.opaque).push_back(r);
+        leaf_triangles_drawn_ += r.index_count / 3;
+      }
       continue;
     }
     // Children nearest first: pushed farthest first.

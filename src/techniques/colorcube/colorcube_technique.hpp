@@ -39,12 +39,13 @@ class ColorcubeTechnique final : public Technique {
   const CubeTree& tree() const { return tree_; }
 
  private:
-  Result<void> use(CubeTree tree, gpu::Device& device);
+  Result<void> use(CubeTree tree, const Scene& scene, gpu::Device& device);
   void index_outlines();
   void mark_occluders(uint32_t cell);
 
   ColorcubeOptions options_;
   CubeTree tree_;
+  const Scene* scene_ = nullptr;  // the loaded scene: its materials for the scene ranges
   gpu::OwnedResources resources_;
   MeshHandle mesh_;  // tree_.proxies
   std::vector<uint32_t> stack_;

@@ -248,7 +248,7 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
       return drawn(f) && (!o.coverage_as_alpha || f.coverage >= 1.0f);
     });
   };
-  uint64_t hidden = 0;
+  uint64_t hidden = 0, proxied_triangles = 0;
   for (size_t i = 0; i < tree.cells.size(); ++i) {
     CubeCell& cell = tree.cells[i];
     const glm::vec3 step = cell.bounds.size() / float(c);
@@ -281,20 +281,37 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
       cell.faces_count[face] = uint32_t(tree.proxies.indices.size()) - cell.faces_begin[face];
     }
   }
-  // The leaves' own triangles, lit per vertex (gpu/lighting.hpp), vertices shared per leaf.
-  std::vector<uint32_t> local;
+  // The leaves' own triangles: untextured ones lit per vertex (gpu/lighting.hpp), vertices
+  // shared per leaf; textured ones drawn from the scene's own buffers (they need its texture
+  // coordinates and the textured program), as runs of consecutive triangles.
+  std::vector<uint32_t> local, proxied, textured;
   for (size_t l = 0; l < leaves; ++l) {
     CubeCell& cell = tree.cells[split.leaf_cells[l]];
+    proxied.clear();
+    textured.clear();
+    for (uint32_t t : split.leaf_owned[l])
+      (scene.materials[materials[t]].textured() ? textured : proxied).push_back(t);
+    cell.scene_ranges_begin = uint32_t(tree.scene_ranges.size());
+    std::sort(textured.begin(), textured.end());
+    for (size_t i = 0; i < textured.size();) {
+      size_t j = i + 1;
+      while (j < textured.size() && textured[j] == textured[j - 1] + 1 &&
+             materials[textured[j]] == materials[textured[i]])
+        ++j;
+      tree.scene_ranges.push_back({textured[i] * 3, uint32_t(j - i) * 3, materials[textured[i]]});
+      i = j;
+    }
+    cell.scene_ranges_count = uint32_t(tree.scene_ranges.size()) - cell.scene_ranges_begin;
     cell.geometry_begin = uint32_t(tree.proxies.indices.size());
     local.clear();
-    for (uint32_t t : split.leaf_owned[l])
+    for (uint32_t t : proxied)
       for (int k = 0; k < 3; ++k) local.push_back(scene.indices[size_t(t) * 3 + k]);
     std::sort(local.begin(), local.end());
     local.erase(std::unique(local.begin(), local.end()), local.end());
     const uint32_t base = uint32_t(tree.proxies.vertices.size());
     // A vertex's material is its triangles' (objects do not share vertices).
     std::vector<int32_t> material_of(local.size(), -1);
-    for (uint32_t t : split.leaf_owned[l])
+    for (uint32_t t : proxied)
       for (int k = 0; k < 3; ++k) {
         const size_t at =
             size_t(std::lower_bound(local.begin(), local.end(), scene.indices[size_t(t) * 3 + k]) -
@@ -308,7 +325,7 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
           gpu::shade(unpack_normal(v.normal), glm::vec3(unpack_color(v.color)) * glm::vec3(tint));
       tree.proxies.vertices.push_back({v.position, pack_color(glm::vec4(lit, tint.a))});
     }
-    for (uint32_t t : split.leaf_owned[l])
+    for (uint32_t t : proxied)
       for (int k = 0; k < 3; ++k)
         tree.proxies.indices.push_back(base +
                                        uint32_t(std::lower_bound(local.begin(), local.end(),
@@ -316,7 +333,10 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
                                                 local.begin()));
     cell.geometry_count = uint32_t(tree.proxies.indices.size()) - cell.geometry_begin;
     cell.reach = cell.bounds;
-    for (uint32_t v : local) cell.reach.expand(scene.vertices[v].position);
+    for (uint32_t t : split.leaf_owned[l])
+      for (int k = 0; k < 3; ++k)
+        cell.reach.expand(scene.vertices[scene.indices[size_t(t) * 3 + k]].position);
+    proxied_triangles += proxied.size();
     tree.stats.geometry_triangles += split.leaf_owned[l].size();
     split.leaf_owned[l] = {};
   }
@@ -337,7 +357,7 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
   tree.stats.levels = uint32_t(depth + 1);
   tree.stats.cluster = uint32_t(c);
   tree.stats.oversampling = uint32_t(o.leaf.oversampling);
-  tree.stats.cube_faces = (tree.proxies.indices.size() - 3 * tree.stats.geometry_triangles) / 6;
+  tree.stats.cube_faces = (tree.proxies.indices.size() - 3 * proxied_triangles) / 6;
   tree.stats.inner_faces_dropped = hidden;
   return tree;
 }

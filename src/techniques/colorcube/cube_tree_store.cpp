@@ -1,4 +1,5 @@
-// The colour-cube tree in a .ffpack store: the cells, proxy vertices and indices and the
+// The colour-cube tree in a .ffpack store: the cells, proxy vertices and indices, the leaves'
+// scene ranges and the
 // statistics as zstd blobs, paper 002's Table 1 as metadata. Which scene it was made for is
 // the bake record's business (store/bake_record.hpp). Reading checks every index before the
 // tree is used.
@@ -15,6 +16,7 @@ namespace {
 constexpr const char* kCells = "colorcube/cells";
 constexpr const char* kVertices = "colorcube/proxy_vertices";
 constexpr const char* kIndices = "colorcube/proxy_indices";
+constexpr const char* kSceneRanges = "colorcube/scene_ranges";
 constexpr const char* kStats = "colorcube/stats";
 
 template <class T>
@@ -42,6 +44,7 @@ Result<void> save_cube_tree(const CubeTree& tree, Store& store) {
   if (auto ok = store.put(kCells, bytes_of(tree.cells)); !ok) return ok;
   if (auto ok = store.put(kVertices, bytes_of(tree.proxies.vertices)); !ok) return ok;
   if (auto ok = store.put(kIndices, bytes_of(tree.proxies.indices)); !ok) return ok;
+  if (auto ok = store.put(kSceneRanges, bytes_of(tree.scene_ranges)); !ok) return ok;
   const std::vector<CubeTreeStats> stats{tree.stats};
   if (auto ok = store.put(kStats, bytes_of(stats)); !ok) return ok;
   const CubeTreeStats& s = tree.stats;
@@ -55,7 +58,7 @@ Result<void> save_cube_tree(const CubeTree& tree, Store& store) {
   return transaction->commit();
 }
 
-Result<CubeTree> load_cube_tree(const Store& store) {
+Result<CubeTree> load_cube_tree(const Store& store, const Scene& scene) {
   CubeTree tree;
   auto cells = read_array<CubeCell>(store, kCells);
   if (!cells) return cells.error();
@@ -63,6 +66,8 @@ Result<CubeTree> load_cube_tree(const Store& store) {
   if (!vertices) return vertices.error();
   auto indices = read_array<uint32_t>(store, kIndices);
   if (!indices) return indices.error();
+  auto scene_ranges = read_array<DrawRange>(store, kSceneRanges);
+  if (!scene_ranges) return scene_ranges.error();
   auto stats = read_array<CubeTreeStats>(store, kStats);
   if (!stats) return stats.error();
   auto inconsistent = [&](const char* what) {
@@ -72,6 +77,11 @@ Result<CubeTree> load_cube_tree(const Store& store) {
   if (cells->empty()) return inconsistent("no cells");
   for (uint32_t index : *indices)
     if (index >= vertices->size()) return inconsistent("a proxy index past the vertices");
+  for (const DrawRange& r : *scene_ranges)
+    if (r.first_index % 3 != 0 || r.index_count % 3 != 0 ||
+        uint64_t(r.first_index) + r.index_count > scene.indices.size() ||
+        r.material >= scene.materials.size())
+      return inconsistent("a scene range past the scene");
   for (size_t i = 0; i < cells->size(); ++i) {
     const CubeCell& c = (*cells)[i];
     if (c.child_count > 8 ||
@@ -84,10 +94,13 @@ Result<CubeTree> load_cube_tree(const Store& store) {
     for (int f = 0; f < 6; ++f)
       if (!range_ok(c.faces_begin[f], c.faces_count[f])) return inconsistent("a face batch");
     if (!range_ok(c.geometry_begin, c.geometry_count)) return inconsistent("a leaf's triangles");
+    if (uint64_t(c.scene_ranges_begin) + c.scene_ranges_count > scene_ranges->size())
+      return inconsistent("a leaf's textured triangles");
   }
   tree.cells = std::move(*cells);
   tree.proxies.vertices = std::move(*vertices);
   tree.proxies.indices = std::move(*indices);
+  tree.scene_ranges = std::move(*scene_ranges);
   tree.stats = (*stats)[0];
   return tree;
 }

@@ -5,7 +5,8 @@
 // not exceed a threshold are dropped; the rest become proxy quads, kept in six batches per
 // cell (one per orientation) so that a frame draws only the orientations facing the eye. The
 // leaves' own triangles are copied into the same proxy mesh with their lighting baked per
-// vertex, so that a frame gathers cubes and near geometry into one stream.
+// vertex, so that a frame gathers cubes and near geometry into one stream; textured triangles
+// stay in the scene's buffers, named by index range.
 #pragma once
 
 #include <array>
@@ -52,9 +53,11 @@ struct CubeCell {
   uint32_t first_child = 0;  // children contiguous in `cells`
   uint32_t child_count = 0;  // 0 for a leaf
   uint32_t level = 0;        // 0 at the root
-  // Leaves: the proxy index range of the triangles the leaf owns (those whose centroid lies
-  // in it), lit per vertex as the renderer lights them, so that each is drawn once per frame.
+  // Leaves: the triangles the leaf owns (those whose centroid lies in it), so that each is
+  // drawn once per frame. Untextured ones as a proxy index range, lit per vertex as the
+  // renderer lights them; textured ones as scene ranges (CubeTree::scene_ranges).
   uint32_t geometry_begin = 0, geometry_count = 0;
+  uint32_t scene_ranges_begin = 0, scene_ranges_count = 0;
   // Proxy index ranges of the cell's drawn faces, one per orientation (face index of
   // color_cube.hpp), into CubeTree::proxies.indices.
   std::array<uint32_t, 6> faces_begin{}, faces_count{};
@@ -73,6 +76,7 @@ struct CubeTreeStats {  // paper 002, Table 1
 struct CubeTree {
   std::vector<CubeCell> cells;  // root first
   ProxyMesh proxies;
+  std::vector<DrawRange> scene_ranges;  // the leaves' textured triangles, by leaf
   CubeTreeStats stats;
 };
 
@@ -80,10 +84,11 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& opti
                                  Progress& progress);
 
 // A built tree into a store (blobs under "colorcube/", replacing a tree there), with its
-// statistics as metadata; and back, refusing a missing or inconsistent one. Whether the bake
-// belongs to the scene is checked before, from its bake record (usable_bake).
+// statistics as metadata; and back, refusing a missing or inconsistent one (scene ranges are
+// checked against `scene`). Whether the bake belongs to the scene is checked before, from its
+// bake record (usable_bake).
 Result<void> save_cube_tree(const CubeTree& tree, Store& store);
-Result<CubeTree> load_cube_tree(const Store& store);
+Result<CubeTree> load_cube_tree(const Store& store, const Scene& scene);
 
 // The depth build_cube_tree uses: options.depth, or the one its rule derives.
 struct ResolvedDepth {
