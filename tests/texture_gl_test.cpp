@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include "farfield/eval/image_metrics.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/lighting.hpp"
 #include "farfield/gpu/renderer.hpp"
@@ -149,6 +150,50 @@ TEST(TextureGL, DoubleSidedMaterialsShowTheirBacks) {
     else
       EXPECT_EQ(centre[2], sky) << "a single-sided quad is culled from behind";
   }
+}
+
+// Scene meshes (Device::create_scene_mesh: a technique's own geometry in the scene's format)
+// are drawn as the scene's own buffers are: a copy of both objects, the textured quad and the
+// untextured box, as one scene mesh gives the same pixels as the scene's ranges, textures,
+// lighting and materials alike. A mesh without texture coordinates draws untextured ranges.
+TEST(TextureGL, SceneMeshesDrawLikeTheScene) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  const Scene scene = test::make_textured_scene();
+  const View view = view_at({0.6f, 1.0f, 6.0f}, -90.0f, 96, 72);
+  auto renderer = gpu::Renderer::create(scene);
+  ASSERT_TRUE(renderer);
+  (*renderer)->set_offscreen(view.width, view.height);
+  DrawList scene_ranges, mesh_ranges;
+  std::vector<glm::vec2> uvs(scene.vertices.size());
+  for (const Object& o : scene.objects) {
+    scene_ranges.opaque.push_back({o.first_index, o.index_count, o.material});
+    if (scene.textured(o))
+      std::copy_n(scene.uvs.begin() + o.first_uv, o.vertex_count, uvs.begin() + o.first_vertex);
+  }
+  (*renderer)->draw(view, scene_ranges);
+  const Image reference = (*renderer)->capture();
+  auto mesh = (*renderer)->create_scene_mesh(scene.vertices, uvs, scene.indices);
+  ASSERT_TRUE(mesh) << mesh.error().message;
+  for (const Object& o : scene.objects)
+    mesh_ranges.opaque.push_back({o.first_index, o.index_count, o.material, *mesh});
+  EXPECT_EQ(mesh_ranges.mesh_triangle_count(), scene.triangle_count());
+  (*renderer)->draw(view, mesh_ranges);
+  const ImageComparison same = compare_images(reference, (*renderer)->capture());
+  EXPECT_TRUE(same.identical()) << same.differing_pixels << " pixels differ";
+  // The box alone from a mesh without texture coordinates.
+  auto box = (*renderer)->create_scene_mesh(scene.vertices, {}, scene.indices);
+  ASSERT_TRUE(box);
+  const Object& o = scene.objects[0];
+  mesh_ranges.opaque = {{o.first_index, o.index_count, o.material, *box}};
+  scene_ranges.opaque = {{o.first_index, o.index_count, o.material}};
+  (*renderer)->draw(view, scene_ranges);
+  const Image box_reference = (*renderer)->capture();
+  (*renderer)->draw(view, mesh_ranges);
+  EXPECT_TRUE(compare_images(box_reference, (*renderer)->capture()).identical());
+  const uint64_t before = (*renderer)->resource_bytes();
+  (*renderer)->free(*box);
+  EXPECT_LT((*renderer)->resource_bytes(), before);
 }
 
 }  // namespace

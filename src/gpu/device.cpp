@@ -23,6 +23,19 @@ Result<MeshHandle> MemoryDevice::create_textured_mesh(std::span<const TexturedVe
   return MeshHandle{uint32_t(meshes_.size())};
 }
 
+Result<MeshHandle> MemoryDevice::create_scene_mesh(std::span<const Vertex> vertices,
+                                                   std::span<const glm::vec2> uvs,
+                                                   std::span<const uint32_t> indices) {
+  FF_ASSERT(uvs.empty() || uvs.size() == vertices.size(),
+            "%zu texture coordinates for %zu vertices", uvs.size(), vertices.size());
+  ProxyMesh copy;
+  copy.vertices.reserve(vertices.size());
+  for (const Vertex& v : vertices) copy.vertices.push_back({v.position, v.color});
+  copy.indices.assign(indices.begin(), indices.end());
+  meshes_.push_back({std::move(copy), true});
+  return MeshHandle{uint32_t(meshes_.size())};
+}
+
 TextureHandle MemoryDevice::create_texture() {
   textures_.push_back(true);
   return TextureHandle{uint32_t(textures_.size())};
@@ -81,6 +94,15 @@ Result<MeshHandle> OwnedResources::textured_mesh(std::span<const TexturedVertex>
                                                  std::span<const uint32_t> indices) {
   FF_ASSERT(device_ != nullptr, "OwnedResources::textured_mesh before bind()");
   auto made = device_->create_textured_mesh(vertices, indices);
+  if (made) meshes_.push_back(*made);
+  return made;
+}
+
+Result<MeshHandle> OwnedResources::scene_mesh(std::span<const Vertex> vertices,
+                                              std::span<const glm::vec2> uvs,
+                                              std::span<const uint32_t> indices) {
+  FF_ASSERT(device_ != nullptr, "OwnedResources::scene_mesh before bind()");
+  auto made = device_->create_scene_mesh(vertices, uvs, indices);
   if (made) meshes_.push_back(*made);
   return made;
 }

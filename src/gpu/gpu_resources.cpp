@@ -27,8 +27,8 @@ Result<void> make_buffer(GLuint& buffer, const char* what, size_t bytes, const v
 namespace {
 
 void delete_mesh(GpuMesh& m) {
-  const GLuint buffers[] = {m.vertex_buffer, m.index_buffer};
-  glDeleteBuffers(2, buffers);
+  const GLuint buffers[] = {m.vertex_buffer, m.index_buffer, m.uv_buffer};
+  glDeleteBuffers(3, buffers);
   glDeleteVertexArrays(1, &m.vao);
   m = GpuMesh{};
 }
@@ -55,7 +55,7 @@ Result<MeshHandle> GpuResources::add_mesh(const void* vertices, size_t vertex_co
   for (uint32_t i : indices)
     FF_ASSERT(i < vertex_count, "mesh index %u beyond its %zu vertices", i, vertex_count);
   GpuMesh m;
-  m.textured = textured;
+  m.kind = textured ? MeshKind::textured : MeshKind::proxy;
   if (auto made = make_buffer(m.vertex_buffer, "mesh vertices", vertex_count * stride, vertices, 0);
       !made) {
     delete_mesh(m);
@@ -83,6 +83,50 @@ Result<MeshHandle> GpuResources::add_mesh(const void* vertices, size_t vertex_co
   m.index_count = uint32_t(indices.size());
   m.indices.assign(indices.begin(), indices.end());
   m.bytes = vertex_count * stride + indices.size() * sizeof(uint32_t);
+  return store(std::move(m));
+}
+
+Result<MeshHandle> GpuResources::add_scene_mesh(std::span<const Vertex> vertices,
+                                                std::span<const glm::vec2> uvs,
+                                                std::span<const uint32_t> indices) {
+  FF_ASSERT(indices.size() % 3 == 0 && indices.size() <= UINT32_MAX, "%zu mesh indices",
+            indices.size());
+  FF_ASSERT(uvs.empty() || uvs.size() == vertices.size(),
+            "%zu texture coordinates for %zu vertices", uvs.size(), vertices.size());
+  for (uint32_t i : indices)
+    FF_ASSERT(i < vertices.size(), "mesh index %u beyond its %zu vertices", i, vertices.size());
+  GpuMesh m;
+  m.kind = MeshKind::scene;
+  auto fail = [&](Result<void> made) {
+    delete_mesh(m);
+    return made.error();
+  };
+  if (auto made = make_buffer(m.vertex_buffer, "scene mesh vertices",
+                              vertices.size() * sizeof(Vertex), vertices.data(), 0);
+      !made)
+    return fail(made);
+  if (auto made = make_buffer(m.index_buffer, "scene mesh indices",
+                              indices.size() * sizeof(uint32_t), indices.data(), 0);
+      !made)
+    return fail(made);
+  glCreateVertexArrays(1, &m.vao);
+  glVertexArrayVertexBuffer(m.vao, 0, m.vertex_buffer, 0, sizeof(Vertex));
+  glVertexArrayElementBuffer(m.vao, m.index_buffer);
+  if (!uvs.empty()) {
+    if (auto made = make_buffer(m.uv_buffer, "scene mesh texture coordinates",
+                                uvs.size() * sizeof(glm::vec2), uvs.data(), 0);
+        !made)
+      return fail(made);
+    glVertexArrayVertexBuffer(m.vao, 3, m.uv_buffer, 0, sizeof(glm::vec2));
+    set_attribute(m.vao, kTexcoordAttrib, 2, GL_FLOAT, GL_FALSE, 0, 3);
+  }
+  m.index_count = uint32_t(indices.size());
+  m.bytes = vertices.size() * sizeof(Vertex) + uvs.size() * sizeof(glm::vec2) +
+            indices.size() * sizeof(uint32_t);
+  return store(std::move(m));
+}
+
+MeshHandle GpuResources::store(GpuMesh m) {
   m.live = true;
   uint32_t slot;
   if (!free_meshes_.empty()) {

@@ -10,6 +10,7 @@
 
 #include "farfield/core/result.hpp"
 #include "farfield/gpu/draw_list.hpp"
+#include "farfield/scene/scene.hpp"
 
 namespace farfield::gpu {
 
@@ -22,13 +23,19 @@ Result<void> make_buffer(GLuint& buffer, const char* what, size_t bytes, const v
 void set_attribute(GLuint vao, GLuint index, GLint size, GLenum type, GLboolean normalized,
                    size_t offset, GLuint binding = 0);
 
+// What a mesh's vertices are: ProxyVertex, TexturedVertex, or the scene's Vertex (with an
+// optional texture coordinate buffer), which the renderer draws as scene geometry.
+enum class MeshKind : uint8_t { proxy, textured, scene };
+
 struct GpuMesh {
   GLuint vertex_buffer = 0, index_buffer = 0, vao = 0;
+  GLuint uv_buffer = 0;  // scene meshes with texture coordinates
   uint32_t index_count = 0;
-  bool textured = false;
+  MeshKind kind = MeshKind::proxy;
   bool live = false;
   uint64_t bytes = 0;
-  std::vector<uint32_t> indices;  // CPU copy: many small ranges are gathered into one draw
+  std::vector<uint32_t> indices;  // CPU copy (proxy and textured meshes): many small ranges are
+                                  // gathered into one draw
 };
 
 struct GpuTexture {
@@ -48,6 +55,11 @@ class GpuResources {
   // Vertices of ProxyVertex (textured = false) or TexturedVertex (true).
   Result<MeshHandle> add_mesh(const void* vertices, size_t vertex_count, bool textured,
                               std::span<const uint32_t> indices);
+  // Buffers and a VAO reading the vertices (binding 0) and texture coordinates (binding 3);
+  // the renderer binds the scene's materials to it.
+  Result<MeshHandle> add_scene_mesh(std::span<const Vertex> vertices,
+                                    std::span<const glm::vec2> uvs,
+                                    std::span<const uint32_t> indices);
   TextureHandle add_texture();
   void free(MeshHandle mesh);
   void free(TextureHandle texture);
@@ -62,6 +74,7 @@ class GpuResources {
   std::vector<GpuMesh> meshes_;
   std::vector<GpuTexture> textures_;
   std::vector<uint32_t> free_meshes_, free_textures_;  // reusable slots
+  MeshHandle store(GpuMesh mesh);
 };
 
 }  // namespace farfield::gpu

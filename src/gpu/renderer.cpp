@@ -86,9 +86,11 @@ struct Renderer::State {
     bool double_sided = false;
     auto operator<=>(const Drawing&) const = default;
   };
-  // Consecutive scene commands of one chunk and one way of drawing, drawn by one multi-draw.
+  // Consecutive scene commands of one vertex array (a chunk's or a scene mesh's) and one way
+  // of drawing, drawn by one multi-draw.
   struct SceneBatch {
-    size_t chunk, first_command, count;
+    GLuint vao;
+    size_t first_command, count;
     Drawing drawing;
   };
   std::vector<SceneBatch> opaque_batches, transparent_batches;
@@ -175,6 +177,10 @@ struct Renderer::State {
       in = &sorted_ranges;
     }
     for (const DrawRange& r : *in) {
+      if (r.mesh) {
+        add_scene_mesh_range(r, batches);
+        continue;
+      }
       FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
                     uint64_t(r.first_index) + r.index_count <= index_count &&
                     r.material < white_material,
@@ -187,8 +193,9 @@ struct Renderer::State {
         const uint32_t stop = std::min(end, chunk.first_index + chunk.index_count);
         FF_ASSERT(at >= chunk.first_index && stop > at, "range [%u, %u) outside every chunk", at,
                   end);
-        if (batches.empty() || batches.back().chunk != c || batches.back().drawing != drawing)
-          batches.push_back({c, commands.size(), 0, drawing});
+        if (batches.empty() || batches.back().vao != chunks[c].vao ||
+            batches.back().drawing != drawing)
+          batches.push_back({chunks[c].vao, commands.size(), 0, drawing});
         commands.push_back(
             {stop - at, 1, at - chunk.first_index, -GLint(chunk.first_vertex), r.material});
         batches.back().count++;
@@ -197,9 +204,47 @@ struct Renderer::State {
     }
   }
 
+  // A range of a scene mesh: one command, indices from the mesh's start.
+  void add_scene_mesh_range(const DrawRange& r, std::vector<SceneBatch>& batches) {
+    const GpuMesh& mesh = resources.mesh(r.mesh);
+    FF_ASSERT(mesh.kind == MeshKind::scene, "scene range names mesh %u, which is no scene mesh",
+              r.mesh.id);
+    FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
+                  uint64_t(r.first_index) + r.index_count <= mesh.index_count &&
+                  r.material < white_material,
+              "range [%u, +%u) material %u outside mesh %u's %u indices and %u materials",
+              r.first_index, r.index_count, r.material, r.mesh.id, mesh.index_count,
+              white_material);
+    const Drawing drawing = drawings[r.material];
+    if (batches.empty() || batches.back().vao != mesh.vao || batches.back().drawing != drawing)
+      batches.push_back({mesh.vao, commands.size(), 0, drawing});
+    commands.push_back({r.index_count, 1, r.first_index, 0, r.material});
+    batches.back().count++;
+  }
+
+  // What every vertex array of scene geometry reads besides its vertices (binding 0) and
+  // texture coordinates (binding 3): the materials, one per instance (each draw command's
+  // baseInstance is its material index), and in textured scenes their texturing.
+  void bind_scene_attributes(GLuint vao) const {
+    glVertexArrayVertexBuffer(vao, 1, material_buffer, 0, sizeof(Material));
+    glVertexArrayBindingDivisor(vao, 1, 1);
+    set_attribute(vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
+    set_attribute(vao, kNormalAttrib, 4, GL_INT_2_10_10_10_REV, GL_TRUE, offsetof(Vertex, normal));
+    set_attribute(vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(Vertex, color));
+    set_attribute(vao, kMaterialAttrib, 4, GL_FLOAT, GL_FALSE, 0, 1);  // per instance
+    if (!textures) return;
+    glVertexArrayVertexBuffer(vao, 2, texturing_buffer, 0, sizeof(MaterialTexturing));
+    glVertexArrayBindingDivisor(vao, 2, 1);
+    glEnableVertexArrayAttrib(vao, kTexturingAttrib);
+    glVertexArrayAttribIFormat(vao, kTexturingAttrib, 3, GL_INT, 0);
+    glVertexArrayAttribBinding(vao, kTexturingAttrib, 2);
+    set_attribute(vao, kCutoffAttrib, 1, GL_FLOAT, GL_FALSE, offsetof(MaterialTexturing, cutoff),
+                  2);
+  }
+
   void draw_scene_batches(const std::vector<SceneBatch>& batches) {
     for (const SceneBatch& b : batches) {
-      glBindVertexArray(chunks[b.chunk].vao);
+      glBindVertexArray(b.vao);
       const int array = b.drawing.array;
       if (array >= 0) {  // the textured program samples this batch's array on unit 0
         glUseProgram(textured_scene_program);
@@ -235,8 +280,11 @@ struct Renderer::State {
     for (size_t b = 0; b < list.meshes.size();) {
       const MeshDraw& first = list.meshes[b];
       const GpuMesh& mesh = resources.mesh(first.mesh);
-      FF_ASSERT(mesh.textured == bool(first.texture), "mesh %u is %s but its draw names texture %u",
-                first.mesh.id, mesh.textured ? "textured" : "a proxy mesh", first.texture.id);
+      FF_ASSERT(mesh.kind != MeshKind::scene, "mesh %u is a scene mesh: draw it by DrawRange",
+                first.mesh.id);
+      const bool textured = mesh.kind == MeshKind::textured;
+      FF_ASSERT(textured == bool(first.texture), "mesh %u is %s but its draw names texture %u",
+                first.mesh.id, textured ? "textured" : "a proxy mesh", first.texture.id);
       if (first.texture) resources.texture(first.texture);  // asserts that it is live
       size_t e = b;
       while (e < list.meshes.size() && list.meshes[e].mesh == first.mesh &&
@@ -515,26 +563,11 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
       return made.error();
     glCreateVertexArrays(1, &c.vao);
     glVertexArrayVertexBuffer(c.vao, 0, c.vertex_buffer, 0, sizeof(Vertex));
-    // One material per instance; each draw command's baseInstance is its material index.
-    glVertexArrayVertexBuffer(c.vao, 1, s.material_buffer, 0, sizeof(Material));
-    glVertexArrayBindingDivisor(c.vao, 1, 1);
     glVertexArrayElementBuffer(c.vao, c.index_buffer);
-    set_attribute(c.vao, kPositionAttrib, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
-    set_attribute(c.vao, kNormalAttrib, 4, GL_INT_2_10_10_10_REV, GL_TRUE,
-                  offsetof(Vertex, normal));
-    set_attribute(c.vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(Vertex, color));
-    set_attribute(c.vao, kMaterialAttrib, 4, GL_FLOAT, GL_FALSE, 0, 1);  // per instance
-    if (textured) {
+    s.bind_scene_attributes(c.vao);
+    if (textured)
       if (auto ok = add_texture_coordinates(scene, c.vao, range, c.uv_buffer); !ok)
         return ok.error();
-      glVertexArrayVertexBuffer(c.vao, 2, s.texturing_buffer, 0, sizeof(MaterialTexturing));
-      glVertexArrayBindingDivisor(c.vao, 2, 1);
-      glEnableVertexArrayAttrib(c.vao, kTexturingAttrib);
-      glVertexArrayAttribIFormat(c.vao, kTexturingAttrib, 3, GL_INT, 0);
-      glVertexArrayAttribBinding(c.vao, kTexturingAttrib, 2);
-      set_attribute(c.vao, kCutoffAttrib, 1, GL_FLOAT, GL_FALSE,
-                    offsetof(MaterialTexturing, cutoff), 2);
-    }
   }
   glCreateVertexArrays(1, &s.vao);
 
@@ -608,6 +641,14 @@ Result<MeshHandle> Renderer::create_mesh(std::span<const ProxyVertex> vertices,
 Result<MeshHandle> Renderer::create_textured_mesh(std::span<const TexturedVertex> vertices,
                                                   std::span<const uint32_t> indices) {
   return state_->resources.add_mesh(vertices.data(), vertices.size(), true, indices);
+}
+
+Result<MeshHandle> Renderer::create_scene_mesh(std::span<const Vertex> vertices,
+                                               std::span<const glm::vec2> uvs,
+                                               std::span<const uint32_t> indices) {
+  auto made = state_->resources.add_scene_mesh(vertices, uvs, indices);
+  if (made) state_->bind_scene_attributes(state_->resources.mesh(*made).vao);
+  return made;
 }
 
 TextureHandle Renderer::create_texture() {

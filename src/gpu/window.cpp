@@ -42,12 +42,24 @@ Window::~Window() {
   glfwTerminate();
 }
 
-void Window::make_current() { glfwMakeContextCurrent(window_); }
-bool Window::should_close() const { return glfwWindowShouldClose(window_); }
-void Window::close() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
-void Window::swap_buffers() { glfwSwapBuffers(window_); }
-void Window::poll_events() { glfwPollEvents(); }
-bool Window::key_down(int key) const { return glfwGetKey(window_, key) == GLFW_PRESS; }
+void Window::make_current() {
+  glfwMakeContextCurrent(window_);
+}
+bool Window::should_close() const {
+  return glfwWindowShouldClose(window_);
+}
+void Window::close() {
+  glfwSetWindowShouldClose(window_, GLFW_TRUE);
+}
+void Window::swap_buffers() {
+  glfwSwapBuffers(window_);
+}
+void Window::poll_events() {
+  glfwPollEvents();
+}
+bool Window::key_down(int key) const {
+  return glfwGetKey(window_, key) == GLFW_PRESS;
+}
 void Window::framebuffer_size(int& width, int& height) const {
   glfwGetFramebufferSize(window_, &width, &height);
 }

@@ -9,8 +9,11 @@
 #include <span>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "farfield/core/result.hpp"
 #include "farfield/gpu/draw_list.hpp"
+#include "farfield/scene/scene.hpp"
 
 namespace farfield::gpu {
 
@@ -22,6 +25,12 @@ class Device {
                                          std::span<const uint32_t> indices) = 0;
   virtual Result<MeshHandle> create_textured_mesh(std::span<const TexturedVertex> vertices,
                                                   std::span<const uint32_t> indices) = 0;
+  // Geometry in the scene's vertex format (simplified objects, merged cluster meshes), drawn
+  // by DrawRanges that name it, lit and textured as the scene is with the scene's materials;
+  // `uvs` one per vertex, or empty where no range draws a textured material.
+  virtual Result<MeshHandle> create_scene_mesh(std::span<const Vertex> vertices,
+                                               std::span<const glm::vec2> uvs,
+                                               std::span<const uint32_t> indices) = 0;
   // A texture, empty until a TextureUpload gives it pixels (and its size).
   virtual TextureHandle create_texture() = 0;
   virtual void free(MeshHandle mesh) = 0;
@@ -37,12 +46,15 @@ class MemoryDevice final : public Device {
                                  std::span<const uint32_t> indices) override;
   Result<MeshHandle> create_textured_mesh(std::span<const TexturedVertex> vertices,
                                           std::span<const uint32_t> indices) override;
+  Result<MeshHandle> create_scene_mesh(std::span<const Vertex> vertices,
+                                       std::span<const glm::vec2> uvs,
+                                       std::span<const uint32_t> indices) override;
   TextureHandle create_texture() override;
   void free(MeshHandle mesh) override;
   void free(TextureHandle texture) override;
   uint64_t resource_bytes() const override;
 
-  // The proxy mesh of a live handle (textured meshes: their positions and colours).
+  // The proxy mesh of a live handle (textured and scene meshes: their positions and colours).
   const ProxyMesh& mesh(MeshHandle handle) const;
   size_t live_meshes() const;
   size_t live_textures() const;
@@ -70,6 +82,8 @@ class OwnedResources {
   Result<MeshHandle> mesh(std::span<const ProxyVertex> vertices, std::span<const uint32_t> indices);
   Result<MeshHandle> textured_mesh(std::span<const TexturedVertex> vertices,
                                    std::span<const uint32_t> indices);
+  Result<MeshHandle> scene_mesh(std::span<const Vertex> vertices, std::span<const glm::vec2> uvs,
+                                std::span<const uint32_t> indices);
   TextureHandle texture();
   void release();
 

@@ -1,7 +1,8 @@
 // DrawList: what techniques selected for one frame, as plain data (DESIGN.md). Several
 // techniques may append to one list (composite): every entry names what it draws, scene
 // ranges by index range, technique meshes and textures by the handles the renderer gave out
-// (gpu/device.hpp). The renderer makes the `uploads` first, then draws `opaque` scene ranges,
+// (gpu/device.hpp). The renderer makes the `uploads` first, then draws `opaque` scene ranges
+// (of the scene's buffers or of scene meshes: LODs, merged meshes, lit like the scene),
 // `meshes` (depth-tested, unlit, textured or not), the `backdrop`, `transparent` scene ranges
 // blended, and `lines` over the top, each in the order given. Capacity is kept between
 // frames: clear() does not free, but it does release the pixels the uploads held.
@@ -30,10 +31,14 @@ struct TextureHandle {
 };
 
 struct DrawRange {
-  uint32_t first_index;  // into Scene::indices, a multiple of 3
+  uint32_t first_index;  // into Scene::indices (or the mesh's indices), a multiple of 3
   uint32_t index_count;  // a multiple of 3
   uint32_t material;     // into Scene::materials
+  // None: the scene's own buffers; else a scene mesh (Device::create_scene_mesh), drawn with
+  // the scene's lighting, materials and textures.
+  MeshHandle mesh{};
 };
+static_assert(sizeof(DrawRange) == 16);
 
 // Vertices of technique meshes (stand-ins: colour-cube faces, textured boxes, billboards):
 // unlit, their colour already shaded when baked; alpha < 1 is blended. Counter-clockwise
@@ -134,10 +139,13 @@ struct DrawList {
       for (const auto& r : *ranges) n += r.index_count / 3;
     return n;
   }
-  // Of those, the technique meshes' (stand-ins: two per colour-cube face, ...).
+  // Of those, the technique meshes' (stand-ins: two per colour-cube face, LODs, ...).
   uint64_t mesh_triangle_count() const {
     uint64_t n = 0;
     for (const auto& m : meshes) n += m.index_count / 3;
+    for (const auto* ranges : {&opaque, &transparent})
+      for (const auto& r : *ranges)
+        if (r.mesh) n += r.index_count / 3;
     return n;
   }
 };

@@ -47,6 +47,9 @@ class Renderer final : public Device {
                                  std::span<const uint32_t> indices) override;
   Result<MeshHandle> create_textured_mesh(std::span<const TexturedVertex> vertices,
                                           std::span<const uint32_t> indices) override;
+  Result<MeshHandle> create_scene_mesh(std::span<const Vertex> vertices,
+                                       std::span<const glm::vec2> uvs,
+                                       std::span<const uint32_t> indices) override;
   TextureHandle create_texture() override;
   void free(MeshHandle mesh) override;
   void free(TextureHandle texture) override;

@@ -80,7 +80,7 @@ Result<CubeTree> load_cube_tree(const Store& store, const Scene& scene) {
   for (const DrawRange& r : *scene_ranges)
     if (r.first_index % 3 != 0 || r.index_count % 3 != 0 ||
         uint64_t(r.first_index) + r.index_count > scene.indices.size() ||
-        r.material >= scene.materials.size())
+        r.material >= scene.materials.size() || r.mesh)
       return inconsistent("a scene range past the scene");
   for (size_t i = 0; i < cells->size(); ++i) {
     const CubeCell& c = (*cells)[i];
