@@ -12,6 +12,10 @@ namespace farfield {
 
 namespace {
 
+// Bounds of the distance between two surfaces are settled to this share of their extent (a
+// triangle whose bound is below it is not refined further).
+constexpr float kResolution = 1e-3f;
+
 // The closest point of triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
 glm::vec3 closest_on_triangle(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b,
                               const glm::vec3& c) {
@@ -76,33 +80,48 @@ class TriangleGrid {
     stamp_.assign(mesh.triangle_count(), 0);
   }
 
-  float distance(const glm::vec3& p) {
+  struct Nearest {
+    float distance;
+    uint32_t triangle;
+  };
+  // The nearest triangle to p and its distance.
+  Nearest nearest(const glm::vec3& p) {
     ++query_;
     const glm::ivec3 home = cell_of(p);
-    float best = std::numeric_limits<float>::infinity();
+    Nearest best{std::numeric_limits<float>::infinity(), 0};
     const int rings = std::max({dims_[0], dims_[1], dims_[2]});
+    auto visit = [&](int x, int y, int z) {
+      if (x < 0 || y < 0 || z < 0 || x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) return;
+      const size_t c = cell_index(x, y, z);
+      for (uint32_t k = first_[c]; k < first_[c + 1]; ++k) {
+        const uint32_t t = items_[k];
+        if (stamp_[t] == query_) continue;
+        stamp_[t] = query_;
+        const float d = distance_to(p, t);
+        if (d < best.distance) best = {d, t};
+      }
+    };
     for (int r = 0; r <= rings; ++r) {
-      for (int z = home.z - r; z <= home.z + r; ++z)
-        for (int y = home.y - r; y <= home.y + r; ++y)
-          for (int x = home.x - r; x <= home.x + r; ++x) {
-            const bool on_ring =
-                std::max({std::abs(x - home.x), std::abs(y - home.y), std::abs(z - home.z)}) == r;
-            if (!on_ring || x < 0 || y < 0 || z < 0 || x >= dims_[0] || y >= dims_[1] ||
-                z >= dims_[2])
-              continue;
-            const size_t c = cell_index(x, y, z);
-            for (uint32_t k = first_[c]; k < first_[c + 1]; ++k) {
-              const uint32_t t = items_[k];
-              if (stamp_[t] == query_) continue;
-              stamp_[t] = query_;
-              const glm::vec3 q = closest_on_triangle(p, corner(t, 0), corner(t, 1), corner(t, 2));
-              best = std::min(best, glm::distance(p, q));
-            }
+      // The shell of cells at Chebyshev distance r: two faces of z, then rings of y and x.
+      for (int z = home.z - r; z <= home.z + r; ++z) {
+        const bool cap = z == home.z - r || z == home.z + r;
+        for (int y = home.y - r; y <= home.y + r; ++y) {
+          if (cap || y == home.y - r || y == home.y + r) {
+            for (int x = home.x - r; x <= home.x + r; ++x) visit(x, y, z);
+          } else {
+            visit(home.x - r, y, z);
+            if (r > 0) visit(home.x + r, y, z);
           }
+        }
+      }
       // Triangles of later rings lie at least r cells away.
-      if (best <= float(r) * cell_) break;
+      if (best.distance <= float(r) * cell_) break;
     }
     return best;
+  }
+  float distance(const glm::vec3& p) { return nearest(p).distance; }
+  float distance_to(const glm::vec3& p, uint32_t t) const {
+    return glm::distance(p, closest_on_triangle(p, corner(t, 0), corner(t, 1), corner(t, 2)));
   }
 
  private:
@@ -131,54 +150,85 @@ class TriangleGrid {
 };
 
 // An upper bound of the distance from every point of `from`'s triangles to the surface of
-// `grid`. Distance to a surface is 1-Lipschitz, so on a triangle sampled on a barycentric grid
-// of level k (sub-triangles of edge L/k, every point within L / (k sqrt 3) of a sample) it is at
-// most the largest sampled distance plus that radius. Triangles start at level 2 (corners and
-// edge midpoints) and are refined, to at most level 64, only while their bound exceeds the
-// largest distance actually sampled so far.
-float distance_bound(const MeshPart& from, TriangleGrid& grid) {
-  struct Pending {
+// `grid`, from distances at the points of a barycentric grid of level k on each triangle
+// (sub-triangles of edge L/k). On a sub-triangle the distance is at most
+//  - its corners' largest plus L / (k sqrt 3): distance to a surface is 1-Lipschitz and every
+//    point lies within that of a corner;
+//  - its corners' largest distance to any one triangle of the surface (the nearest of one of
+//    its corners): distance to a triangle, a convex set, is convex, so its largest on a
+//    triangle is at a corner. This settles sub-triangles that lie on a facet at once.
+// Triangles start at level 2 and are refined, to at most level 32, while their bound exceeds
+// both the largest distance sampled so far and `resolution`.
+float distance_bound(const MeshPart& from, TriangleGrid& grid, float resolution) {
+  struct Sample {
+    float distance;
     uint32_t triangle;
-    float bound;
   };
+  std::vector<Sample> samples;
   float sampled = 0.0f;  // a lower bound of the answer
-  std::vector<Pending> pending;
-  auto sample_triangle = [&](uint32_t t, int k, float& worst) {
+  auto bound_at_level = [&](uint32_t t, int k) {
     const glm::vec3 a = from.vertices[from.indices[3 * size_t(t)]].position,
                     b = from.vertices[from.indices[3 * size_t(t) + 1]].position,
                     c = from.vertices[from.indices[3 * size_t(t) + 2]].position;
-    worst = 0.0f;
+    auto point = [&](int i, int j) {
+      return a + (b - a) * (float(i) / float(k)) + (c - a) * (float(j) / float(k));
+    };
+    auto at = [&](int i, int j) -> Sample& { return samples[size_t(i * (k + 1) + j)]; };
+    samples.assign(size_t((k + 1) * (k + 1)), {0.0f, 0});
     for (int i = 0; i <= k; ++i)
       for (int j = 0; i + j <= k; ++j) {
-        const glm::vec3 p = a + (b - a) * (float(i) / float(k)) + (c - a) * (float(j) / float(k));
-        worst = std::max(worst, grid.distance(p));
+        const TriangleGrid::Nearest n = grid.nearest(point(i, j));
+        at(i, j) = {n.distance, n.triangle};
+        sampled = std::max(sampled, n.distance);
       }
     const float longest = std::max({glm::distance(a, b), glm::distance(b, c), glm::distance(c, a)});
-    return worst + longest / (float(k) * std::sqrt(3.0f));
+    const float radius = longest / (float(k) * std::sqrt(3.0f));
+    float bound = 0.0f;
+    auto sub_triangle = [&](int i0, int j0, int i1, int j1, int i2, int j2) {
+      const Sample* s[3] = {&at(i0, j0), &at(i1, j1), &at(i2, j2)};
+      float b = std::max({s[0]->distance, s[1]->distance, s[2]->distance}) + radius;
+      if (b <= sampled) return;  // cannot raise the answer
+      const glm::vec3 p[3] = {point(i0, j0), point(i1, j1), point(i2, j2)};
+      for (const Sample* candidate : s) {
+        float convex = 0.0f;
+        for (const glm::vec3& q : p)
+          convex = std::max(convex, grid.distance_to(q, candidate->triangle));
+        b = std::min(b, convex);
+      }
+      bound = std::max(bound, b);
+    };
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; i + j < k; ++j) {
+        sub_triangle(i, j, i + 1, j, i, j + 1);
+        if (i + j + 2 <= k) sub_triangle(i + 1, j, i + 1, j + 1, i, j + 1);
+      }
+    return bound;
   };
-  for (uint32_t t = 0; t < from.triangle_count(); ++t) {
-    float worst = 0.0f;
-    const float bound = sample_triangle(t, 2, worst);
-    sampled = std::max(sampled, worst);
-    pending.push_back({t, bound});
-  }
-  float result = sampled;
+  std::vector<std::pair<uint32_t, float>> pending;  // triangle, bound
+  for (uint32_t t = 0; t < from.triangle_count(); ++t) pending.push_back({t, bound_at_level(t, 2)});
+  float result = 0.0f;
   for (int k = 4; !pending.empty(); k *= 2) {
-    std::vector<Pending> next;
-    for (const Pending& p : pending) {
-      if (p.bound <= sampled) continue;
-      if (k > 64) {
-        result = std::max(result, p.bound);
+    std::vector<std::pair<uint32_t, float>> next;
+    for (const auto& [t, bound] : pending) {
+      if (bound <= std::max(sampled, resolution)) {
+        result = std::max(result, bound);
         continue;
       }
-      float worst = 0.0f;
-      const float bound = sample_triangle(p.triangle, k, worst);
-      sampled = std::max(sampled, worst);
-      next.push_back({p.triangle, bound});
+      if (k > 32) {
+        result = std::max(result, bound);
+        continue;
+      }
+      next.push_back({t, bound_at_level(t, k)});
     }
     pending.swap(next);
   }
   return std::max(result, sampled);
+}
+
+Bounds3 bounds_of(const MeshPart& part) {
+  Bounds3 bounds;
+  for (const Vertex& v : part.vertices) bounds.expand(v.position);
+  return bounds;
 }
 
 }  // namespace
@@ -202,19 +252,13 @@ MeshPart gather_part(const Scene& scene, std::span<const uint32_t> objects, uint
   return part;
 }
 
-Bounds3 bounds_of(const MeshPart& part) {
-  Bounds3 bounds;
-  for (const Vertex& v : part.vertices) bounds.expand(v.position);
-  return bounds;
-}
-
 float surface_distance(const MeshPart& from, const MeshPart& to) {
   if (from.indices.empty()) return 0.0f;
   if (to.indices.empty()) return std::numeric_limits<float>::infinity();
   Bounds3 region = bounds_of(from);
   region.expand(bounds_of(to));
   TriangleGrid grid(to, region);
-  return distance_bound(from, grid);
+  return distance_bound(from, grid, kResolution * glm::length(region.size()));
 }
 
 float farthest_distance(const std::vector<glm::vec3>& points, const MeshPart& mesh) {

@@ -2,6 +2,7 @@
 #include <array>
 
 #include "brute/brute_technique.hpp"
+#include "clusters/clusters_technique.hpp"
 #include "colorcube/colorcube_technique.hpp"
 #include "composite/composite_technique.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
@@ -13,8 +14,8 @@ namespace farfield {
 namespace {
 
 const std::array kTechniques = {
-    &brute_descriptor,     &octree_descriptor,     &octree_paper_descriptor,
-    &colorcube_descriptor, &stratified_descriptor, &composite_descriptor,
+    &brute_descriptor,      &octree_descriptor,    &octree_paper_descriptor, &colorcube_descriptor,
+    &stratified_descriptor, &composite_descriptor, &clusters_descriptor,
 };
 
 }  // namespace

@@ -1,0 +1,52 @@
+// Levels of detail of every object of a scene (paper 001, Sec. 4.1.2: each conceptual object
+// has "full geometry" and "a chain of simplified LODs"): simplified by scene/simplify from the
+// full object at halving triangle counts, each with the distance in metres it may stray from
+// the object. The first piece of the clusters technique; the cluster hierarchy of Sec. 4.4
+// builds on it.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "farfield/core/progress.hpp"
+#include "farfield/core/result.hpp"
+#include "farfield/scene/scene.hpp"
+
+namespace farfield {
+
+class Store;
+
+// One simplified version of an object: a range of LodSet::indices, its geometric error.
+struct Lod {
+  uint32_t object;
+  uint32_t first_index, index_count;  // into LodSet::indices (absolute into its vertices)
+  float error_m;                      // never below the previous level's
+};
+static_assert(sizeof(Lod) == 16);
+
+struct LodSetOptions {
+  int max_levels = 6;          // simplified levels an object may have
+  uint32_t min_triangles = 8;  // an object this small gets no (further) level
+  double min_reduction = 0.8;  // a level keeps at most this share of the previous one's triangles
+  int threads = 0;             // 0: all cores
+};
+
+struct LodSet {
+  std::vector<Vertex> vertices;
+  std::vector<glm::vec2> uvs;  // one per vertex (zero on untextured objects), or empty
+  std::vector<uint32_t> indices;
+  std::vector<Lod> lods;            // by object, finest first
+  std::vector<uint32_t> first_lod;  // per object, and one past the last: its lods' range
+  double bake_s = 0;
+};
+
+Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& options, Progress& progress);
+
+// Blobs under "clusters/" (replacing a set there) and back, refusing a missing or
+// inconsistent one (ranges past the arrays, objects not of `scene`).
+Result<void> save_lod_set(const LodSet& set, Store& store);
+Result<LodSet> load_lod_set(const Store& store, const Scene& scene);
+
+}  // namespace farfield

@@ -1,0 +1,165 @@
+// The clusters technique, first step (docs/techniques/clusters.md): LOD chains of every object,
+// kept in a pack, chosen by projected error.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "farfield/core/assert.hpp"
+#include "farfield/eval/image_metrics.hpp"
+#include "farfield/gpu/context.hpp"
+#include "farfield/gpu/renderer.hpp"
+#include "farfield/scene/field_generator.hpp"
+#include "farfield/scene/tree_generator.hpp"
+#include "farfield/store/store.hpp"
+#include "farfield/techniques/clusters/lod_set.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
+#include "test_util.hpp"
+
+namespace farfield {
+namespace {
+
+Scene small_tree() {
+  Progress quiet(true);
+  TreeOptions options;
+  options.iterations = 4;
+  options.objects = 6;
+  auto tree = generate_tree(options, quiet);
+  FF_ASSERT(tree.ok(), "tree");
+  return std::move(*tree);
+}
+
+TEST(LodSet, ChainsHaveFewerTrianglesAndGrowingErrors) {
+  const Scene scene = small_tree();
+  Progress quiet(true);
+  auto set = build_lod_set(scene, {}, quiet);
+  ASSERT_TRUE(set) << set.error().message;
+  ASSERT_EQ(set->first_lod.size(), scene.objects.size() + 1);
+  EXPECT_GT(set->lods.size(), scene.objects.size());  // most objects have several levels
+  for (uint32_t o = 0; o < scene.objects.size(); ++o) {
+    uint64_t previous = scene.objects[o].index_count / 3;
+    float error = 0.0f;
+    for (uint32_t k = set->first_lod[o]; k < set->first_lod[o + 1]; ++k) {
+      const Lod& lod = set->lods[k];
+      EXPECT_EQ(lod.object, o);
+      EXPECT_LE(double(lod.index_count / 3), 0.8 * double(previous));
+      EXPECT_GE(lod.error_m, error);
+      EXPECT_GT(lod.error_m, 0.0f);
+      previous = lod.index_count / 3;
+      error = lod.error_m;
+    }
+  }
+  EXPECT_TRUE(set->uvs.empty());  // an untextured scene keeps no texture coordinates
+  LodSetOptions bad;
+  bad.min_reduction = 1.5;
+  EXPECT_FALSE(build_lod_set(scene, bad, quiet));
+}
+
+TEST(LodSet, KeptInAPackAndRefusedWhenDamaged) {
+  const Scene scene = small_tree();
+  Progress quiet(true);
+  auto set = build_lod_set(scene, {}, quiet);
+  ASSERT_TRUE(set);
+  test::TempDir dir;
+  {
+    auto store = Store::open(dir.file("p.ffpack"), Store::Mode::kReadWrite);
+    ASSERT_TRUE(store);
+    ASSERT_TRUE(save_lod_set(*set, *store));
+  }
+  {
+    auto store = Store::open(dir.file("p.ffpack"), Store::Mode::kRead);
+    ASSERT_TRUE(store);
+    auto back = load_lod_set(*store, scene);
+    ASSERT_TRUE(back) << back.error().message;
+    EXPECT_TRUE(test::same_bytes(back->lods, set->lods));
+    EXPECT_EQ(back->indices, set->indices);
+    EXPECT_EQ(back->first_lod, set->first_lod);
+    // Another scene with fewer objects: the LODs are not its own.
+    const Scene other = test::make_box_row(2);
+    auto refused = load_lod_set(*store, other);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("inconsistent"), std::string::npos);
+  }
+  {
+    auto store = Store::open(dir.file("p.ffpack"), Store::Mode::kReadWrite);
+    ASSERT_TRUE(store);
+    std::vector<uint32_t> indices = set->indices;
+    indices[0] = uint32_t(set->vertices.size());  // past the vertices
+    ASSERT_TRUE(store->put("clusters/lod_indices", std::as_bytes(std::span(indices))));
+    auto damaged = load_lod_set(*store, scene);
+    ASSERT_FALSE(damaged);
+    EXPECT_NE(damaged.error().message.find("p.ffpack"), std::string::npos)
+        << damaged.error().message;
+    EXPECT_NE(damaged.error().message.find("index past the vertices"), std::string::npos);
+    ASSERT_TRUE(store->put("clusters/lods", std::as_bytes(std::span("abc", 3))));
+    EXPECT_FALSE(load_lod_set(*store, scene));  // not whole records
+  }
+}
+
+// Near, the objects are drawn whole; far, as levels of the technique's scene mesh; with a
+// tolerance no level meets, the list is the octree's.
+TEST(Clusters, FarObjectsAsLevelsNearOnesWhole) {
+  const Scene scene = small_tree();
+  gpu::MemoryDevice device;
+  auto clusters = make_technique("clusters");
+  ASSERT_TRUE(clusters);
+  ASSERT_TRUE(test::load_technique(**clusters, scene, &device));
+  auto octree = make_technique("octree");
+  ASSERT_TRUE(test::load_technique(**octree, scene, &device));
+  auto levels = [](const DrawList& list) {
+    size_t n = 0;
+    for (const DrawRange& r : list.opaque) n += r.mesh ? 1 : 0;
+    return n;
+  };
+  const glm::vec3 centre = scene.bounds.center();
+  View far;
+  far.pose.position = centre + glm::vec3(0.0f, 0.0f, -2000.0f);
+  far.pose.yaw_deg = 90.0f;  // towards +Z, at the tree
+  DrawList list, reference;
+  test::select_view(**clusters, far, list);
+  EXPECT_EQ(levels(list), scene.objects.size());
+  EXPECT_LT(list.triangle_count(), scene.triangle_count() / 4);
+  View near = far;
+  near.pose.position = centre + glm::vec3(0.0f, 0.0f, -1.0f);
+  test::select_view(**clusters, near, list);
+  EXPECT_LT(levels(list), scene.objects.size());
+  // No level's error is below a thousandth of a pixel from 400 m: everything whole.
+  auto exact = make_technique("clusters", test::settings_of({"clusters.error_px=0.0001"}));
+  ASSERT_TRUE(test::load_technique(**exact, scene, &device));
+  test::select_view(**exact, far, list);
+  test::select_view(**octree, far, reference);
+  EXPECT_EQ(levels(list), 0u);
+  EXPECT_EQ(list.triangle_count(), reference.triangle_count());
+}
+
+// From afar the levels look like the tree: the frame is close to brute force's.
+TEST(ClustersGL, FarLevelsLookLikeTheObjects) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  const Scene scene = small_tree();
+  auto renderer = gpu::Renderer::create(scene);
+  ASSERT_TRUE(renderer);
+  auto brute = make_technique("brute");
+  auto clusters = make_technique("clusters");
+  ASSERT_TRUE(test::load_technique(**brute, scene, renderer->get()));
+  ASSERT_TRUE(test::load_technique(**clusters, scene, renderer->get()));
+  View view;
+  view.width = 256;
+  view.height = 192;
+  view.pose.position = scene.bounds.center() + glm::vec3(0.0f, 0.0f, -40.0f);
+  view.pose.yaw_deg = 90.0f;
+  (*renderer)->set_offscreen(view.width, view.height);
+  DrawList list;
+  test::select_view(**brute, view, list);
+  (*renderer)->draw(view, list);
+  const Image reference = (*renderer)->capture();
+  const uint64_t all = list.triangle_count();
+  test::select_view(**clusters, view, list);
+  EXPECT_LT(list.triangle_count(), all);
+  EXPECT_GT(list.mesh_triangle_count(), 0u);
+  (*renderer)->draw(view, list);
+  const ImageComparison c = compare_images(reference, (*renderer)->capture());
+  EXPECT_GT(c.psnr_db, 30.0) << c.differing_pixels << " pixels differ";
+}
+
+}  // namespace
+}  // namespace farfield
