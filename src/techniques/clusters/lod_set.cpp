@@ -1,12 +1,12 @@
 #include "farfield/techniques/clusters/lod_set.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cstring>
-#include <thread>
 
+#include "farfield/core/parallel.hpp"
 #include "farfield/scene/simplify.hpp"
+#include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
 
 namespace farfield {
@@ -39,22 +39,6 @@ std::vector<SimplifiedPart> lod_chain(const Scene& scene, uint32_t object, const
   return chain;
 }
 
-template <class T>
-std::span<const std::byte> bytes_of(const std::vector<T>& v) {
-  return std::as_bytes(std::span(v));
-}
-
-template <class T>
-Result<std::vector<T>> read_array(const Store& store, const char* name) {
-  auto bytes = store.get(name);
-  if (!bytes) return bytes.error();
-  if (bytes->size() % sizeof(T) != 0)
-    return make_error(store.path(), ": blob '", name, "' has a size that is not whole records");
-  std::vector<T> out(bytes->size() / sizeof(T));
-  if (!out.empty()) std::memcpy(out.data(), bytes->data(), bytes->size());
-  return out;
-}
-
 }  // namespace
 
 Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progress& progress) {
@@ -63,24 +47,8 @@ Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progres
   const auto start = std::chrono::steady_clock::now();
   const size_t objects = scene.objects.size();
   std::vector<std::vector<SimplifiedPart>> chains(objects);
-  std::atomic<size_t> next{0}, done{0};
-  auto work = [&] {
-    for (size_t i; (i = next.fetch_add(1)) < objects; done.fetch_add(1))
-      chains[i] = lod_chain(scene, uint32_t(i), o);
-  };
-  const unsigned threads =
-      o.threads > 0 ? unsigned(o.threads) : std::max(1u, std::thread::hardware_concurrency());
-  progress.start("simplify objects", objects);
-  std::vector<std::thread> pool;
-  for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work);
-  for (size_t reported = 0; reported < objects;) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    const size_t now = done.load();
-    progress.advance(now - reported);
-    reported = now;
-  }
-  for (auto& t : pool) t.join();
-  progress.finish();
+  parallel_for(objects, o.threads, progress, "simplify objects",
+               [&](size_t i) { chains[i] = lod_chain(scene, uint32_t(i), o); });
 
   LodSet set;
   const bool textured = !scene.uvs.empty();

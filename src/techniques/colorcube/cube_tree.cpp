@@ -1,13 +1,12 @@
 #include "farfield/techniques/colorcube/cube_tree.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <span>
-#include <thread>
 
 #include "farfield/core/assert.hpp"
+#include "farfield/core/parallel.hpp"
 #include "farfield/gpu/lighting.hpp"
 #include "farfield/spatial/octree.hpp"
 
@@ -184,28 +183,12 @@ Result<CubeTree> build_cube_tree(const Scene& scene, const CubeTreeOptions& o, P
   auto textures = leaf_textures(scene);
   if (!textures) return textures.error();
   const size_t leaves = split.leaf_cells.size();
-  std::atomic<size_t> next{0}, done{0};
-  auto work = [&] {
-    for (size_t i; (i = next.fetch_add(1)) < leaves; done.fetch_add(1)) {
-      const uint32_t cell = split.leaf_cells[i];
-      std::vector<ColorCube> baked = bake_leaf(scene, materials, split.leaf_triangles[i],
-                                               tree.cells[cell].bounds, o.leaf, *textures);
-      std::copy(baked.begin(), baked.end(), cubes.begin() + size_t(cell) * per_cell);
-    }
-  };
-  const unsigned threads =
-      o.threads > 0 ? unsigned(o.threads) : std::max(1u, std::thread::hardware_concurrency());
-  progress.start("bake colour-cube leaves", leaves);
-  std::vector<std::thread> pool;
-  for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work);
-  for (size_t reported = 0; reported < leaves;) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    const size_t now = done.load();
-    progress.advance(now - reported);
-    reported = now;
-  }
-  for (auto& t : pool) t.join();
-  progress.finish();
+  parallel_for(leaves, o.threads, progress, "bake colour-cube leaves", [&](size_t i) {
+    const uint32_t cell = split.leaf_cells[i];
+    std::vector<ColorCube> baked = bake_leaf(scene, materials, split.leaf_triangles[i],
+                                             tree.cells[cell].bounds, o.leaf, *textures);
+    std::copy(baked.begin(), baked.end(), cubes.begin() + size_t(cell) * per_cell);
+  });
   split.leaf_triangles = {};
   split.items = {};
   tree.stats.leaf_bake_s = std::chrono::duration<double>(Clock::now() - start).count();

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <string>
 
+#include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/colorcube/cube_tree.hpp"
 
@@ -18,22 +19,6 @@ constexpr const char* kVertices = "colorcube/proxy_vertices";
 constexpr const char* kIndices = "colorcube/proxy_indices";
 constexpr const char* kSceneRanges = "colorcube/scene_ranges";
 constexpr const char* kStats = "colorcube/stats";
-
-template <class T>
-std::span<const std::byte> bytes_of(const std::vector<T>& v) {
-  return std::as_bytes(std::span(v));
-}
-
-template <class T>
-Result<std::vector<T>> read_array(const Store& store, const char* name) {
-  auto bytes = store.get(name);
-  if (!bytes) return bytes.error();
-  if (bytes->size() % sizeof(T) != 0)
-    return make_error(store.path(), ": blob '", name, "' has a size that is not whole records");
-  std::vector<T> out(bytes->size() / sizeof(T));
-  if (!out.empty()) std::memcpy(out.data(), bytes->data(), bytes->size());
-  return out;
-}
 
 }  // namespace
 
