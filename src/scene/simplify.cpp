@@ -14,7 +14,7 @@ namespace {
 
 // Bounds of the distance between two surfaces are settled to this share of their extent (a
 // triangle whose bound is below it is not refined further).
-constexpr float kResolution = 1e-3f;
+constexpr float kResolution = 5e-3f;
 
 // The closest point of triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
 glm::vec3 closest_on_triangle(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b,
@@ -157,7 +157,7 @@ class TriangleGrid {
 //  - its corners' largest distance to any one triangle of the surface (the nearest of one of
 //    its corners): distance to a triangle, a convex set, is convex, so its largest on a
 //    triangle is at a corner. This settles sub-triangles that lie on a facet at once.
-// Triangles start at level 2 and are refined, to at most level 32, while their bound exceeds
+// Triangles start at level 2 and are refined, to at most level 16, while their bound exceeds
 // both the largest distance sampled so far and `resolution`.
 float distance_bound(const MeshPart& from, TriangleGrid& grid, float resolution) {
   struct Sample {
@@ -214,7 +214,7 @@ float distance_bound(const MeshPart& from, TriangleGrid& grid, float resolution)
         result = std::max(result, bound);
         continue;
       }
-      if (k > 32) {
+      if (k > 16) {
         result = std::max(result, bound);
         continue;
       }

@@ -54,8 +54,8 @@ SimplifiedPart simplify_part(const MeshPart& part, const SimplifyOptions& option
 // for a mesh without triangles).
 float farthest_distance(const std::vector<glm::vec3>& points, const MeshPart& mesh);
 // An upper bound of the distance from any point of `from`'s triangles to `to`'s surface
-// (one-sided Hausdorff distance), settled to 1/1000 of the two meshes' extent where sampling
-// 32 steps an edge allows (else a looser bound: 1/55 of the longest edge of a triangle).
+// (one-sided Hausdorff distance), settled to 1/200 of the two meshes' extent where sampling
+// 16 steps an edge allows (else a looser bound: 1/28 of the longest edge of a triangle).
 float surface_distance(const MeshPart& from, const MeshPart& to);
 
 }  // namespace farfield
