@@ -19,10 +19,10 @@ build: deps
 install: build
 	@cmake --install $(BUILD) --prefix $(PREFIX)
 
-# The main job on the built-in default scene: the default city, its street path, the bake of
-# stratified rendering (the viewcells the path needs), and a benchmark of brute force against
-# octree culling, stratified rendering and composite, with bird's-eye pictures (report in
-# $(OUT)/bench). Colour cubes suit dense geometry seen from afar, not a city at street level:
+# The main job on the built-in default scene: the default city, its street path, the bakes of
+# stratified rendering (the viewcells the path needs) and of clusters (every object's LODs),
+# and a benchmark of brute force against octree culling, stratified rendering, composite and
+# clusters, with bird's-eye pictures (report in $(OUT)/bench). Colour cubes suit dense geometry seen from afar, not a city at street level:
 # their bake refuses the city (docs/techniques/colorcube.md, "When it applies").
 demo: build
 	@mkdir -p $(OUT)
@@ -31,8 +31,9 @@ demo: build
 	$(BUILD)/farfield path $(OUT)/city.ffscene --kind street --out $(OUT)/street.json
 	$(BUILD)/farfield bake $(OUT)/city.ffscene --technique stratified \
 	  --set stratified.path=$(OUT)/street.json --out $(OUT)/city.ffpack
+	$(BUILD)/farfield bake $(OUT)/city.ffscene --technique clusters --out $(OUT)/city.ffpack
 	$(BUILD)/farfield bench $(OUT)/city.ffscene --path $(OUT)/street.json --store $(OUT)/city.ffpack \
-	  --technique brute,octree,stratified,composite --birdseye 300 --out $(OUT)/bench
+	  --technique brute,octree,stratified,composite,clusters --birdseye 300 --out $(OUT)/bench
 	@echo "demo: report in $(OUT)/bench (bench.json, frame_times.png, sample frames and differences)"
 
 test: build
@@ -44,9 +45,10 @@ bench: build
 
 # libFuzzer targets, built with clang into build-fuzz; FUZZ_SECONDS per target. Every reader of
 # a file or blob has one: scene files, packs (and the decoders), camera paths, bake records,
-# colour-cube trees, stratified viewcells, texture images. Seeds in fuzz/corpus/NAME, findings in build-fuzz.
+# colour-cube trees, stratified viewcells, texture images, clusters LOD sets. Seeds in
+# fuzz/corpus/NAME, findings in build-fuzz.
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS = scene_file store camera_path bake_record cube_tree stratified_pack texture_image
+FUZZ_TARGETS = scene_file store camera_path bake_record cube_tree stratified_pack texture_image lod_set
 fuzz: deps
 	@cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_COMPILER=clang++-14 -DFARFIELD_FUZZ=ON -DFARFIELD_TESTS=OFF \

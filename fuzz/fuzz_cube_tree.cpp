@@ -1,6 +1,6 @@
 // libFuzzer target for the colour-cube bake reader (load_cube_tree): a pack holding fuzzed
-// cells, proxy vertices, proxy indices and statistics. An accepted tree must be safe to walk:
-// every cell's ranges are followed to their vertices.
+// cells, proxy vertices, proxy indices, scene ranges and statistics. An accepted tree must be
+// safe to walk: every cell's ranges are followed to their vertices and scene triangles.
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include <cstddef>
@@ -38,10 +38,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       put(*store, "colorcube/cells", records(sizeof(farfield::CubeCell)));
       put(*store, "colorcube/proxy_vertices", records(sizeof(farfield::ProxyVertex)));
       put(*store, "colorcube/proxy_indices", records(sizeof(uint32_t)));
+      put(*store, "colorcube/scene_ranges", records(sizeof(farfield::DrawRange)));
       put(*store, "colorcube/stats", records(sizeof(farfield::CubeTreeStats)));
       (void)transaction->commit();
     }
-    auto tree = farfield::load_cube_tree(*store);
+    const farfield::Scene& scene = fuzz::small_scene();
+    auto tree = farfield::load_cube_tree(*store, scene);
     if (tree) {
       uint64_t sum = 0;
       for (const farfield::CubeCell& c : tree->cells) {
@@ -50,6 +52,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             sum += tree->proxies.vertices[tree->proxies.indices[k]].color;
         for (uint32_t k = c.geometry_begin; k < c.geometry_begin + c.geometry_count; ++k)
           sum += tree->proxies.vertices[tree->proxies.indices[k]].color;
+        for (uint32_t k = c.scene_ranges_begin; k < c.scene_ranges_begin + c.scene_ranges_count;
+             ++k) {
+          const farfield::DrawRange& r = tree->scene_ranges[k];
+          for (uint32_t i = r.first_index; i < r.first_index + r.index_count; ++i)
+            sum += scene.indices[i] + scene.materials[r.material].texture;
+        }
         if (c.child_count > 0 && uint64_t(c.first_child) + c.child_count > tree->cells.size())
           std::abort();
       }

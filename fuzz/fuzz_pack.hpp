@@ -7,9 +7,28 @@
 #include <filesystem>
 #include <string>
 
+#include "farfield/scene/scene.hpp"
 #include "farfield/store/store.hpp"
 
 namespace fuzz {
+
+// The scene a fuzzed bake is read for: two objects of one triangle each, two materials.
+inline const farfield::Scene& small_scene() {
+  static const farfield::Scene scene = [] {
+    farfield::Scene s;
+    farfield::SceneBuilder b(s);
+    for (int i = 0; i < 2; ++i) {
+      const uint32_t m = b.add_material(farfield::Material{glm::vec4(1.0f)});
+      b.begin_object("triangle", farfield::ObjectKind::mesh, m);
+      for (int k = 0; k < 3; ++k)
+        b.add_vertex({float(k == 1) + float(i), float(k == 2), 0.0f}, {0, 0, 1}, 0xffffffffu);
+      b.add_triangle(0, 1, 2);
+      b.end_object();
+    }
+    return s;
+  }();
+  return scene;
+}
 
 inline std::string scratch_pack(const char* target) {
   const std::filesystem::path dir = std::filesystem::is_directory("/dev/shm")

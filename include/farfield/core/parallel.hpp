@@ -1,0 +1,16 @@
+// Work spread over the cores: work(i) for every i in [0, count), taken in order by `threads`
+// threads (0: every core), with progress shown from the calling thread, which waits.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "farfield/core/progress.hpp"
+
+namespace farfield {
+
+void parallel_for(size_t count, int threads, Progress& progress, const std::string& task,
+                  const std::function<void(size_t)>& work);
+
+}  // namespace farfield

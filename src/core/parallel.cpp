@@ -1,0 +1,32 @@
+#include "farfield/core/parallel.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+namespace farfield {
+
+void parallel_for(size_t count, int threads, Progress& progress, const std::string& task,
+                  const std::function<void(size_t)>& work) {
+  std::atomic<size_t> next{0}, done{0};
+  auto worker = [&] {
+    for (size_t i; (i = next.fetch_add(1)) < count; done.fetch_add(1)) work(i);
+  };
+  const unsigned n =
+      threads > 0 ? unsigned(threads) : std::max(1u, std::thread::hardware_concurrency());
+  progress.start(task, count);
+  std::vector<std::thread> pool;
+  for (unsigned t = 0; t < n; ++t) pool.emplace_back(worker);
+  for (size_t reported = 0; reported < count;) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const size_t now = done.load();
+    progress.advance(now - reported);
+    reported = now;
+  }
+  for (auto& t : pool) t.join();
+  progress.finish();
+}
+
+}  // namespace farfield
