@@ -131,6 +131,42 @@ TEST(Clusters, FarObjectsAsLevelsNearOnesWhole) {
   EXPECT_EQ(list.triangle_count(), reference.triangle_count());
 }
 
+// Under a frame-time budget (paper 001, Sec. 4.5.2): the frame's triangles stay within nine
+// tenths of what the budget affords at the measured time per triangle, never below the
+// complete representation at its cheapest (every object in view at its coarsest level, as
+// clusters.error_px=10000 draws it: no holes), and a larger budget never draws less.
+TEST(Clusters, ABudgetIsHeldWithEveryObjectDrawn) {
+  const Scene scene = small_tree();
+  gpu::MemoryDevice device;
+  View view;
+  view.pose.position = scene.bounds.center() + glm::vec3(0.0f, 0.0f, -40.0f);
+  view.pose.yaw_deg = 90.0f;
+  const uint64_t all = scene.triangle_count();
+  auto coarsest = make_technique("clusters", test::settings_of({"clusters.error_px=10000"}));
+  ASSERT_TRUE(test::load_technique(**coarsest, scene, &device));
+  DrawList list;
+  test::select_view(**coarsest, view, list);
+  const uint64_t cheapest = list.triangle_count();
+  ASSERT_LT(cheapest, all / 4);
+  uint64_t previous = 0;
+  for (double target_ms : {0.5, 3.0, 6.0, 9.0, 20.0}) {
+    auto clusters = make_technique("clusters");
+    ASSERT_TRUE(test::load_technique(**clusters, scene, &device));
+    list.clear();
+    // The last frame drew every triangle in 10 ms: 10 / all ms a triangle.
+    const FrameBudget budget{target_ms, 10.0, 0.0, all};
+    (*clusters)->select({view, 1, Region::everything(), budget}, list);
+    const double allowed = 0.9 * target_ms * double(all) / 10.0;
+    SCOPED_TRACE(testing::Message() << target_ms << " ms: " << list.triangle_count()
+                                    << " triangles, " << allowed << " allowed");
+    EXPECT_LE(double(list.triangle_count()), std::max(allowed, double(cheapest)));
+    EXPECT_GE(list.triangle_count(), cheapest);
+    EXPECT_GE(list.triangle_count(), previous);
+    previous = list.triangle_count();
+  }
+  EXPECT_EQ(previous, all);  // 20 ms affords everything
+}
+
 // From afar the levels look like the tree: the frame is close to brute force's.
 TEST(ClustersGL, FarLevelsLookLikeTheObjects) {
   auto context = gpu::create_headless_context();

@@ -178,6 +178,7 @@ TEST(TextureGL, SceneMeshesDrawLikeTheScene) {
   for (const Object& o : scene.objects)
     mesh_ranges.opaque.push_back({o.first_index, o.index_count, o.material, *mesh});
   EXPECT_EQ(mesh_ranges.mesh_triangle_count(), scene.triangle_count());
+  EXPECT_EQ(mesh_ranges.triangle_count(), scene.triangle_count());  // counted once
   (*renderer)->draw(view, mesh_ranges);
   const ImageComparison same = compare_images(reference, (*renderer)->capture());
   EXPECT_TRUE(same.identical()) << same.differing_pixels << " pixels differ";

@@ -134,7 +134,8 @@ struct DrawList {
   }
   // Scene, mesh and backdrop triangles together (two per quad).
   uint64_t triangle_count() const {
-    uint64_t n = 2 * backdrop.size() + mesh_triangle_count();
+    uint64_t n = 2 * backdrop.size();
+    for (const auto& m : meshes) n += m.index_count / 3;
     for (const auto* ranges : {&opaque, &transparent})
       for (const auto& r : *ranges) n += r.index_count / 3;
     return n;

@@ -56,7 +56,9 @@ float distance_to(const Bounds3& box, const glm::vec3& eye) {
 
 const TechniqueDescriptor clusters_descriptor{
     .name = "clusters",
-    .summary = "objects as their coarsest LOD within a projected error (paper 001, first step)",
+    .summary =
+        "objects as meshoptimizer LODs within a projected error or a frame budget (paper 001, "
+        "under way)",
     .paper = "001",
     .settings = kSettings,
     .bake = BakeUse::optional,
@@ -116,6 +118,9 @@ Result<void> ClustersTechnique::use(LodSet set, const Scene& scene, gpu::Device&
   seen_ = std::make_unique<ObjectSet>(scene);
   stack_.reserve(8 * (tree_.depth + 1) + 1);
   frames_ = lods_drawn_ = full_drawn_ = 0;
+  ms_per_triangle_ = 0.0;
+  visible_.reserve(scene.objects.size());
+  refine_.reserve(scene.objects.size());
   return {};
 }
 
@@ -123,14 +128,12 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   if (tree_.nodes.empty() || input.region.kind == Region::Kind::far_field) return;
   const View& view = input.view;
   ++frames_;
-  full_->clear();
-  seen_->clear();
   const Frustum frustum(view);
   const glm::vec3 eye = view.pose.position;
   const bool near = input.region.kind == Region::Kind::near;
-  // A length e at distance d covers e / (d * pixel) pixels at the centre of the view.
-  const float pixel = 2.0f * std::tan(glm::radians(view.hfov_deg) * 0.5f) / float(view.width);
-  const float allowed = options_.error_px * pixel;  // metres of error per metre of distance
+  // The objects in view, each once (an object may lie in several leaves).
+  visible_.clear();
+  seen_->clear();
   stack_.clear();
   stack_.push_back(0);
   while (!stack_.empty()) {
@@ -147,26 +150,91 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
       const Object& o = scene_->objects[object];
       if (v == Visibility::partial && frustum.classify(o.bounds) == Visibility::none) continue;
       if (near && !meet(o.bounds, input.region.box)) continue;
-      if (seen_->contains(object)) continue;  // spans several leaves
+      if (seen_->contains(object)) continue;
       seen_->insert(object);
-      // The coarsest level within the error at the object's nearest point.
-      const float within = allowed * distance_to(o.bounds, eye);
-      const Lod* chosen = nullptr;
-      for (uint32_t k = lods_.first_lod[object]; k < lods_.first_lod[object + 1]; ++k) {
-        if (lods_.lods[k].error_m > within) break;
-        chosen = &lods_.lods[k];
-      }
-      if (chosen == nullptr) {
-        full_->insert(object);
-        ++full_drawn_;
-        continue;
-      }
-      ++lods_drawn_;
-      (scene_->materials[o.material].transparent() ? out.transparent : out.opaque)
-          .push_back({chosen->first_index, chosen->index_count, o.material, mesh_});
+      visible_.push_back({object, distance_to(o.bounds, eye), kWhole});
     }
   }
-  full_->emit(out);  // the full objects, in scene order
+  // A length e at distance d covers e / (d * pixel) pixels at the centre of the view.
+  const float pixel = 2.0f * std::tan(glm::radians(view.hfov_deg) * 0.5f) / float(view.width);
+  if (!(input.budget.target_ms > 0.0) || !choose_under_budget(input.budget, pixel))
+    choose_by_error(pixel);
+  full_->clear();
+  for (const Candidate& c : visible_) {
+    const Object& o = scene_->objects[c.object];
+    if (c.level == kWhole) {
+      full_->insert(c.object);
+      ++full_drawn_;
+      continue;
+    }
+    ++lods_drawn_;
+    const Lod& lod = lods_.lods[c.level];
+    (scene_->materials[o.material].transparent() ? out.transparent : out.opaque)
+        .push_back({lod.first_index, lod.index_count, o.material, mesh_});
+  }
+  full_->emit(out);  // the whole objects, in scene order
+}
+
+// Each object as the coarsest level whose error, seen from its nearest point, covers at most
+// error_px pixels; the whole object where none does.
+void ClustersTechnique::choose_by_error(float pixel) {
+  const float allowed = options_.error_px * pixel;  // metres of error per metre of distance
+  for (Candidate& c : visible_) {
+    const float within = allowed * c.distance;
+    c.level = kWhole;
+    for (uint32_t k = lods_.first_lod[c.object]; k < lods_.first_lod[c.object + 1]; ++k) {
+      if (lods_.lods[k].error_m > within) break;
+      c.level = k;
+    }
+  }
+}
+
+// Paper 001, Sec. 4.5.2, among objects until the cluster hierarchy exists: a complete
+// representation first (every object at its coarsest level), then the object whose drawn
+// error covers the most pixels refined one level at a time while the predicted frame time
+// stays within the budget. The prediction is the last frames' time per triangle (a running
+// mean), with a tenth of the budget held back; before any frame was measured there is none,
+// and the error rule decides.
+bool ClustersTechnique::choose_under_budget(const FrameBudget& budget, float pixel) {
+  if (budget.last_frame_ms > 0.0 && budget.last_triangles > 0) {
+    const double measured = budget.last_frame_ms / double(budget.last_triangles);
+    ms_per_triangle_ = ms_per_triangle_ > 0.0 ? 0.7 * ms_per_triangle_ + 0.3 * measured : measured;
+  }
+  if (!(ms_per_triangle_ > 0.0)) return false;
+  const double allowed = 0.9 * budget.target_ms / ms_per_triangle_;  // triangles
+  auto triangles = [&](uint32_t object, uint32_t level) -> double {
+    return level == kWhole ? double(scene_->objects[object].index_count / 3)
+                           : double(lods_.lods[level].index_count / 3);
+  };
+  auto error_px = [&](const Candidate& c) {
+    return c.level == kWhole ? 0.0f
+                             : lods_.lods[c.level].error_m / (std::max(c.distance, 1e-3f) * pixel);
+  };
+  double cost = 0.0;
+  refine_.clear();
+  for (size_t i = 0; i < visible_.size(); ++i) {
+    Candidate& c = visible_[i];
+    const uint32_t first = lods_.first_lod[c.object], end = lods_.first_lod[c.object + 1];
+    c.level = end > first ? end - 1 : kWhole;
+    cost += triangles(c.object, c.level);
+    if (c.level != kWhole) refine_.push_back({error_px(c), uint32_t(i)});
+  }
+  std::make_heap(refine_.begin(), refine_.end());
+  while (!refine_.empty()) {
+    std::pop_heap(refine_.begin(), refine_.end());
+    Candidate& c = visible_[refine_.back().second];
+    refine_.pop_back();
+    const uint32_t finer = c.level == lods_.first_lod[c.object] ? kWhole : c.level - 1;
+    const double more = triangles(c.object, finer) - triangles(c.object, c.level);
+    if (cost + more > allowed) continue;  // a cheaper refinement may still fit
+    cost += more;
+    c.level = finer;
+    if (finer != kWhole) {
+      refine_.push_back({error_px(c), uint32_t(&c - visible_.data())});
+      std::push_heap(refine_.begin(), refine_.end());
+    }
+  }
+  return true;
 }
 
 std::string ClustersTechnique::describe() const {
@@ -181,7 +249,8 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
   return {{"lods", double(lods_.lods.size())},
           {"lod_triangles", double(lods_.indices.size() / 3)},
           {"mean_objects_as_lods", frames_ ? double(lods_drawn_) / double(frames_) : 0.0},
-          {"mean_objects_full", frames_ ? double(full_drawn_) / double(frames_) : 0.0}};
+          {"mean_objects_full", frames_ ? double(full_drawn_) / double(frames_) : 0.0},
+          {"ms_per_triangle", ms_per_triangle_}};
 }
 
 }  // namespace farfield

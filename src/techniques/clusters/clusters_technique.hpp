@@ -1,7 +1,8 @@
-// clusters: paper 001's walk, first step: every object drawn as the coarsest of its levels of
-// detail (lod_set.hpp) whose geometric error projects below `clusters.error_px` pixels from
-// the eye, the full object where none does (the screen-space error rule of 3D Tiles; the
-// paper's frame-time budget and its cluster hierarchy come next, docs/techniques/clusters.md).
+// clusters: paper 001's walk, first steps: every object drawn as one of its levels of detail
+// (lod_set.hpp) or whole: without a frame-time budget the coarsest level whose geometric error
+// projects below `clusters.error_px` pixels (the screen-space error rule of 3D Tiles); under
+// the engine's budget (bench --budget-ms) the paper's best-first refinement (Sec. 4.5.2)
+// among objects. The cluster hierarchy comes next (docs/techniques/clusters.md).
 #pragma once
 
 #include <memory>
@@ -33,6 +34,15 @@ class ClustersTechnique final : public Technique {
 
  private:
   Result<void> use(LodSet set, const Scene& scene, gpu::Device& device);
+  void choose_by_error(float pixel);
+  bool choose_under_budget(const FrameBudget& budget, float pixel);
+
+  static constexpr uint32_t kWhole = UINT32_MAX;  // a Candidate drawn as the full object
+  struct Candidate {
+    uint32_t object;
+    float distance;  // from the eye to the object's box
+    uint32_t level;  // into lods_.lods, or kWhole
+  };
 
   ClustersOptions options_;
   const Scene* scene_ = nullptr;
@@ -43,6 +53,9 @@ class ClustersTechnique final : public Technique {
   std::unique_ptr<ObjectSet> full_;  // this frame's objects drawn whole
   std::unique_ptr<ObjectSet> seen_;  // this frame's objects drawn either way
   std::vector<uint32_t> stack_;
+  std::vector<Candidate> visible_;                  // this frame's objects in view
+  std::vector<std::pair<float, uint32_t>> refine_;  // budget mode: error px, candidate
+  double ms_per_triangle_ = 0.0;                    // budget mode: measured, a running mean
   // figures()
   uint64_t frames_ = 0, lods_drawn_ = 0, full_drawn_ = 0;
 };
