@@ -11,6 +11,7 @@
 #include "farfield/scene/field_generator.hpp"
 #include "farfield/scene/tree_generator.hpp"
 #include "farfield/store/store.hpp"
+#include "farfield/techniques/clusters/frame_cost.hpp"
 #include "farfield/techniques/clusters/lod_set.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
 #include "test_util.hpp"
@@ -195,6 +196,35 @@ TEST(ClustersGL, FarLevelsLookLikeTheObjects) {
   (*renderer)->draw(view, list);
   const ImageComparison c = compare_images(reference, (*renderer)->capture());
   EXPECT_GT(c.psnr_db, 30.0) << c.differing_pixels << " pixels differ";
+}
+
+}  // namespace
+}  // namespace farfield
+
+namespace farfield {
+namespace {
+
+// The frame cost model finds a fixed part and a part per triangle from frames that vary, and
+// charges everything to the triangles from frames that do not (exact at the count measured).
+TEST(FrameCostModel, FitsAFixedPartAndAPartPerTriangle) {
+  FrameCostModel model;
+  EXPECT_FALSE(model.ready());
+  EXPECT_EQ(model.triangles_within(10.0), 0.0);
+  for (int i = 0; i < 40; ++i) {
+    const double triangles = 10000.0 + 5000.0 * (i % 5);
+    model.observe(triangles, 5.0 + 0.001 * triangles);
+  }
+  EXPECT_NEAR(model.fixed_ms(), 5.0, 1e-6);
+  EXPECT_NEAR(model.ms_per_triangle(), 0.001, 1e-9);
+  EXPECT_NEAR(model.triangles_within(25.0), 20000.0, 1e-3);
+  EXPECT_EQ(model.triangles_within(4.0), 0.0);  // the fixed part alone is over
+  FrameCostModel steady;
+  for (int i = 0; i < 10; ++i) steady.observe(20000.0, 25.0);
+  EXPECT_EQ(steady.fixed_ms(), 0.0);
+  EXPECT_NEAR(steady.ms_per_triangle(), 25.0 / 20000.0, 1e-12);
+  EXPECT_NEAR(steady.predict_ms(20000.0), 25.0, 1e-9);
+  steady.observe(0.0, 3.0);  // nothing drawn says nothing: ignored
+  EXPECT_NEAR(steady.ms_per_triangle(), 25.0 / 20000.0, 1e-12);
 }
 
 }  // namespace

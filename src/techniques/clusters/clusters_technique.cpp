@@ -118,7 +118,7 @@ Result<void> ClustersTechnique::use(LodSet set, const Scene& scene, gpu::Device&
   seen_ = std::make_unique<ObjectSet>(scene);
   stack_.reserve(8 * (tree_.depth + 1) + 1);
   frames_ = lods_drawn_ = full_drawn_ = 0;
-  ms_per_triangle_ = 0.0;
+  cost_ = {};
   visible_.reserve(scene.objects.size());
   refine_.reserve(scene.objects.size());
   return {};
@@ -192,16 +192,13 @@ void ClustersTechnique::choose_by_error(float pixel) {
 // Paper 001, Sec. 4.5.2, among objects until the cluster hierarchy exists: a complete
 // representation first (every object at its coarsest level), then the object whose drawn
 // error covers the most pixels refined one level at a time while the predicted frame time
-// stays within the budget. The prediction is the last frames' time per triangle (a running
-// mean), with a tenth of the budget held back; before any frame was measured there is none,
-// and the error rule decides.
+// stays within the budget. The prediction is the cost model fitted to the frames measured so
+// far (frame_cost.hpp), with a tenth of the budget held back; before any frame was measured
+// there is none, and the error rule decides.
 bool ClustersTechnique::choose_under_budget(const FrameBudget& budget, float pixel) {
-  if (budget.last_frame_ms > 0.0 && budget.last_triangles > 0) {
-    const double measured = budget.last_frame_ms / double(budget.last_triangles);
-    ms_per_triangle_ = ms_per_triangle_ > 0.0 ? 0.7 * ms_per_triangle_ + 0.3 * measured : measured;
-  }
-  if (!(ms_per_triangle_ > 0.0)) return false;
-  const double allowed = 0.9 * budget.target_ms / ms_per_triangle_;  // triangles
+  cost_.observe(double(budget.last_triangles), budget.last_frame_ms);
+  if (!cost_.ready()) return false;
+  const double allowed = cost_.triangles_within(0.9 * budget.target_ms);
   auto triangles = [&](uint32_t object, uint32_t level) -> double {
     return level == kWhole ? double(scene_->objects[object].index_count / 3)
                            : double(lods_.lods[level].index_count / 3);
@@ -250,7 +247,8 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
           {"lod_triangles", double(lods_.indices.size() / 3)},
           {"mean_objects_as_lods", frames_ ? double(lods_drawn_) / double(frames_) : 0.0},
           {"mean_objects_full", frames_ ? double(full_drawn_) / double(frames_) : 0.0},
-          {"ms_per_triangle", ms_per_triangle_}};
+          {"cost_fixed_ms", cost_.fixed_ms()},
+          {"cost_ms_per_triangle", cost_.ms_per_triangle()}};
 }
 
 }  // namespace farfield

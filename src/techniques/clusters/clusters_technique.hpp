@@ -9,6 +9,7 @@
 
 #include "farfield/core/frustum.hpp"
 #include "farfield/spatial/octree.hpp"
+#include "farfield/techniques/clusters/frame_cost.hpp"
 #include "farfield/techniques/clusters/lod_set.hpp"
 #include "farfield/techniques/object_set.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
@@ -55,7 +56,7 @@ class ClustersTechnique final : public Technique {
   std::vector<uint32_t> stack_;
   std::vector<Candidate> visible_;                  // this frame's objects in view
   std::vector<std::pair<float, uint32_t>> refine_;  // budget mode: error px, candidate
-  double ms_per_triangle_ = 0.0;                    // budget mode: measured, a running mean
+  FrameCostModel cost_;                             // budget mode: fitted to measured frames
   // figures()
   uint64_t frames_ = 0, lods_drawn_ = 0, full_drawn_ = 0;
 };
