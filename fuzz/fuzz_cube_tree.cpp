@@ -10,15 +10,6 @@
 #include "farfield/techniques/colorcube/cube_tree.hpp"
 #include "fuzz_pack.hpp"
 
-namespace {
-
-void put(farfield::Store& store, const char* name, const std::string& bytes) {
-  (void)store.put(name, std::as_bytes(std::span(bytes.data(), bytes.size())),
-                  farfield::Codec::kNone);
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   FuzzedDataProvider in(data, size);
   const std::string path = fuzz::scratch_pack("cube-tree");
@@ -29,17 +20,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     {
       auto transaction = store->begin();
       if (!transaction) std::abort();
-      // Whole records more often than not, so that the checks behind the size checks are met.
-      auto records = [&](size_t record) {
-        std::string bytes = in.ConsumeRandomLengthString(1 << 16);
-        if (in.ConsumeBool()) bytes.resize(bytes.size() / record * record);
-        return bytes;
-      };
-      put(*store, "colorcube/cells", records(sizeof(farfield::CubeCell)));
-      put(*store, "colorcube/proxy_vertices", records(sizeof(farfield::ProxyVertex)));
-      put(*store, "colorcube/proxy_indices", records(sizeof(uint32_t)));
-      put(*store, "colorcube/scene_ranges", records(sizeof(farfield::DrawRange)));
-      put(*store, "colorcube/stats", records(sizeof(farfield::CubeTreeStats)));
+      fuzz::put(*store, "colorcube/cells", fuzz::records(in, sizeof(farfield::CubeCell)));
+      fuzz::put(*store, "colorcube/proxy_vertices",
+                fuzz::records(in, sizeof(farfield::ProxyVertex)));
+      fuzz::put(*store, "colorcube/proxy_indices", fuzz::records(in, sizeof(uint32_t)));
+      fuzz::put(*store, "colorcube/scene_ranges", fuzz::records(in, sizeof(farfield::DrawRange)));
+      fuzz::put(*store, "colorcube/stats", fuzz::records(in, sizeof(farfield::CubeTreeStats)));
       (void)transaction->commit();
     }
     const farfield::Scene& scene = fuzz::small_scene();

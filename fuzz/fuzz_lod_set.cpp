@@ -10,15 +10,6 @@
 #include "farfield/techniques/clusters/lod_set.hpp"
 #include "fuzz_pack.hpp"
 
-namespace {
-
-void put(farfield::Store& store, const char* name, const std::string& bytes) {
-  (void)store.put(name, std::as_bytes(std::span(bytes.data(), bytes.size())),
-                  farfield::Codec::kNone);
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   FuzzedDataProvider in(data, size);
   const std::string path = fuzz::scratch_pack("lod-set");
@@ -29,16 +20,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     {
       auto transaction = store->begin();
       if (!transaction) std::abort();
-      // Whole records more often than not, so that the checks behind the size checks are met.
-      auto records = [&](size_t record) {
-        std::string bytes = in.ConsumeRandomLengthString(1 << 16);
-        if (in.ConsumeBool()) bytes.resize(bytes.size() / record * record);
-        return bytes;
-      };
-      put(*store, "clusters/lod_vertices", records(sizeof(farfield::Vertex)));
-      put(*store, "clusters/lod_uvs", records(sizeof(glm::vec2)));
-      put(*store, "clusters/lod_indices", records(sizeof(uint32_t)));
-      put(*store, "clusters/lods", records(sizeof(farfield::Lod)));
+      fuzz::put(*store, "clusters/lod_vertices", fuzz::records(in, sizeof(farfield::Vertex)));
+      fuzz::put(*store, "clusters/lod_uvs", fuzz::records(in, sizeof(glm::vec2)));
+      fuzz::put(*store, "clusters/lod_indices", fuzz::records(in, sizeof(uint32_t)));
+      fuzz::put(*store, "clusters/lods", fuzz::records(in, sizeof(farfield::Lod)));
       (void)transaction->commit();
     }
     const farfield::Scene& scene = fuzz::small_scene();

@@ -2,15 +2,31 @@
 // one, so that each input costs little I/O) filled with fuzzed blobs, removed again.
 #pragma once
 
+#include <fuzzer/FuzzedDataProvider.h>
 #include <unistd.h>
 
 #include <filesystem>
+#include <span>
 #include <string>
 
 #include "farfield/scene/scene.hpp"
 #include "farfield/store/store.hpp"
 
 namespace fuzz {
+
+// A blob stored as given (uncompressed); a refusal is the reader's to meet, not the target's.
+inline void put(farfield::Store& store, const std::string& name, const std::string& bytes) {
+  (void)store.put(name, std::as_bytes(std::span(bytes.data(), bytes.size())),
+                  farfield::Codec::kNone);
+}
+
+// Fuzzed bytes, cut to whole records of `record` bytes more often than not, so that the checks
+// behind a reader's size checks are met.
+inline std::string records(FuzzedDataProvider& in, size_t record) {
+  std::string bytes = in.ConsumeRandomLengthString(1 << 16);
+  if (in.ConsumeBool()) bytes.resize(bytes.size() / record * record);
+  return bytes;
+}
 
 // The scene a fuzzed bake is read for: two objects of one triangle each, two materials.
 inline const farfield::Scene& small_scene() {

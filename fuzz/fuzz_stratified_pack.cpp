@@ -13,13 +13,10 @@
 
 namespace {
 
+using fuzz::put;
+
 constexpr uint32_t kObjects = 64;
 constexpr int kResolution = 4;
-
-void put(farfield::Store& store, const std::string& name, const std::string& bytes) {
-  (void)store.put(name, std::as_bytes(std::span(bytes.data(), bytes.size())),
-                  farfield::Codec::kNone);
-}
 
 // A viewcell's blobs from the fuzzed bytes.
 void put_cell(farfield::Store& store, FuzzedDataProvider& in, const farfield::CellKey& key) {
