@@ -41,186 +41,242 @@ glm::vec3 closest_on_triangle(const glm::vec3& p, const glm::vec3& a, const glm:
   return a + ab * v + ac * w;
 }
 
-// Triangles bucketed in a uniform grid (each in every cell its box overlaps), searched in
-// rings of cells around a point until no nearer triangle can remain.
-class TriangleGrid {
+// Triangles in a bounding-volume hierarchy (median splits of their centres along the longest
+// axis), searched nearest box first and pruned by the best distance so far: a query costs
+// about the logarithm of the triangles however far the point lies from the surface (a grid
+// walks every cell within that distance), which matters for coarse levels whose error spans
+// many triangles. A hint (the nearest triangle of a neighbouring point) starts the bound.
+class TriangleTree {
  public:
-  TriangleGrid(const MeshPart& mesh, const Bounds3& region) : mesh_(mesh) {
-    const glm::vec3 size = glm::max(region.size(), glm::vec3(1e-6f));
-    const double triangles = double(std::max<uint64_t>(1, mesh.triangle_count()));
-    const float longest = std::max({size.x, size.y, size.z});
-    // About one triangle a cell, at most 128 cells a side (flat meshes: thin grids).
-    cell_ =
-        std::max(longest / 128.0f, float(std::cbrt(double(size.x) * size.y * size.z / triangles)));
-    cell_ = std::max(cell_, longest * 1e-4f);
-    origin_ = region.min;
-    for (int a = 0; a < 3; ++a) dims_[a] = std::max(1, int(std::ceil(size[a] / cell_)));
-    first_.assign(size_t(dims_[0]) * dims_[1] * dims_[2] + 1, 0);
-    // Two passes: count, then fill.
-    for (int pass = 0; pass < 2; ++pass) {
-      for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
-        glm::ivec3 lo, hi;
-        triangle_cells(t, lo, hi);
-        for (int z = lo.z; z <= hi.z; ++z)
-          for (int y = lo.y; y <= hi.y; ++y)
-            for (int x = lo.x; x <= hi.x; ++x) {
-              const size_t c = cell_index(x, y, z);
-              if (pass == 0)
-                ++first_[c + 1];
-              else
-                items_[fill_[c]++] = t;
-            }
-      }
-      if (pass == 0) {
-        for (size_t c = 1; c < first_.size(); ++c) first_[c] += first_[c - 1];
-        items_.resize(first_.back());
-        fill_.assign(first_.begin(), first_.end() - 1);
-      }
+  explicit TriangleTree(const MeshPart& mesh) : mesh_(mesh) {
+    const uint32_t count = uint32_t(mesh.triangle_count());
+    order_.resize(count);
+    std::vector<glm::vec3> centres(count);
+    for (uint32_t t = 0; t < count; ++t) {
+      order_[t] = t;
+      centres[t] = (corner(t, 0) + corner(t, 1) + corner(t, 2)) / 3.0f;
     }
-    stamp_.assign(mesh.triangle_count(), 0);
+    if (count == 0) return;
+    nodes_.reserve(2 * size_t(count) / kLeaf + 2);
+    nodes_.push_back({});
+    struct Pending {
+      uint32_t node, begin, end;
+    };
+    std::vector<Pending> stack{{0, 0, count}};
+    while (!stack.empty()) {
+      const Pending p = stack.back();
+      stack.pop_back();
+      Node& node = nodes_[p.node];
+      Bounds3 box, centre_box;
+      for (uint32_t k = p.begin; k < p.end; ++k) {
+        const uint32_t t = order_[k];
+        for (int c = 0; c < 3; ++c) box.expand(corner(t, c));
+        centre_box.expand(centres[t]);
+      }
+      node.min = box.min;
+      node.max = box.max;
+      if (p.end - p.begin <= kLeaf) {
+        node.first = p.begin;
+        node.count = p.end - p.begin;
+        continue;
+      }
+      const glm::vec3 extent = centre_box.size();
+      const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0
+                       : extent.y >= extent.z                       ? 1
+                                                                    : 2;
+      const uint32_t middle = p.begin + (p.end - p.begin) / 2;
+      std::nth_element(order_.begin() + p.begin, order_.begin() + middle, order_.begin() + p.end,
+                       [&](uint32_t l, uint32_t r) { return centres[l][axis] < centres[r][axis]; });
+      const uint32_t left = uint32_t(nodes_.size());
+      node.first = left;  // children at left and left + 1; `node` is invalid past here
+      nodes_.push_back({});
+      nodes_.push_back({});
+      stack.push_back({left, p.begin, middle});
+      stack.push_back({left + 1, middle, p.end});
+    }
   }
 
   struct Nearest {
     float distance;
     uint32_t triangle;
   };
-  // The nearest triangle to p and its distance.
-  Nearest nearest(const glm::vec3& p) {
-    ++query_;
-    const glm::ivec3 home = cell_of(p);
+  // The nearest triangle to p and its distance; `hint`, a triangle likely near, bounds the
+  // search from the start.
+  Nearest nearest(const glm::vec3& p, uint32_t hint = 0) const {
     Nearest best{std::numeric_limits<float>::infinity(), 0};
-    const int rings = std::max({dims_[0], dims_[1], dims_[2]});
-    auto visit = [&](int x, int y, int z) {
-      if (x < 0 || y < 0 || z < 0 || x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) return;
-      const size_t c = cell_index(x, y, z);
-      for (uint32_t k = first_[c]; k < first_[c + 1]; ++k) {
-        const uint32_t t = items_[k];
-        if (stamp_[t] == query_) continue;
-        stamp_[t] = query_;
-        const float d = distance_to(p, t);
-        if (d < best.distance) best = {d, t};
-      }
-    };
-    for (int r = 0; r <= rings; ++r) {
-      // The shell of cells at Chebyshev distance r: two faces of z, then rings of y and x.
-      for (int z = home.z - r; z <= home.z + r; ++z) {
-        const bool cap = z == home.z - r || z == home.z + r;
-        for (int y = home.y - r; y <= home.y + r; ++y) {
-          if (cap || y == home.y - r || y == home.y + r) {
-            for (int x = home.x - r; x <= home.x + r; ++x) visit(x, y, z);
-          } else {
-            visit(home.x - r, y, z);
-            if (r > 0) visit(home.x + r, y, z);
+    if (nodes_.empty()) return best;
+    if (hint < order_.size()) best = {distance_to(p, hint), hint};
+    float best2 = best.distance * best.distance;
+    uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& node = nodes_[stack[--top]];
+      if (box_distance2(node, p) >= best2) continue;
+      if (node.count > 0) {
+        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+          const uint32_t t = order_[k];
+          const glm::vec3 d = p - closest_on_triangle(p, corner(t, 0), corner(t, 1), corner(t, 2));
+          const float d2 = glm::dot(d, d);
+          if (d2 < best2) {
+            best2 = d2;
+            best.triangle = t;
           }
         }
+        continue;
       }
-      // Triangles of later rings lie at least r cells away.
-      if (best.distance <= float(r) * cell_) break;
+      // The nearer child last, so that it is searched first.
+      const float left = box_distance2(nodes_[node.first], p),
+                  right = box_distance2(nodes_[node.first + 1], p);
+      if (top + 2 > 64) continue;  // depth past 62 cannot occur for 2^32 triangles
+      if (left < right) {
+        stack[top++] = node.first + 1;
+        stack[top++] = node.first;
+      } else {
+        stack[top++] = node.first;
+        stack[top++] = node.first + 1;
+      }
     }
+    best.distance = std::sqrt(best2);
     return best;
   }
-  float distance(const glm::vec3& p) { return nearest(p).distance; }
+  float distance(const glm::vec3& p) const { return nearest(p).distance; }
   float distance_to(const glm::vec3& p, uint32_t t) const {
     return glm::distance(p, closest_on_triangle(p, corner(t, 0), corner(t, 1), corner(t, 2)));
   }
 
  private:
+  static constexpr uint32_t kLeaf = 4;
+  struct Node {
+    glm::vec3 min{0.0f}, max{0.0f};
+    uint32_t first = 0;  // leaves: into order_; inner nodes: the first of two children
+    uint32_t count = 0;  // triangles of a leaf; 0 for inner nodes
+  };
+  static float box_distance2(const Node& node, const glm::vec3& p) {
+    const glm::vec3 d = glm::max(glm::max(node.min - p, p - node.max), glm::vec3(0.0f));
+    return glm::dot(d, d);
+  }
   const glm::vec3& corner(uint32_t t, int k) const {
     return mesh_.vertices[mesh_.indices[size_t(t) * 3 + size_t(k)]].position;
   }
-  glm::ivec3 cell_of(const glm::vec3& p) const {
-    glm::ivec3 c(glm::floor((p - origin_) / cell_));
-    return glm::clamp(c, glm::ivec3(0), glm::ivec3(dims_[0] - 1, dims_[1] - 1, dims_[2] - 1));
-  }
-  void triangle_cells(uint32_t t, glm::ivec3& lo, glm::ivec3& hi) const {
-    const glm::vec3 a = corner(t, 0), b = corner(t, 1), c = corner(t, 2);
-    lo = cell_of(glm::min(a, glm::min(b, c)));
-    hi = cell_of(glm::max(a, glm::max(b, c)));
-  }
-  size_t cell_index(int x, int y, int z) const {
-    return size_t(x) + size_t(dims_[0]) * (size_t(y) + size_t(dims_[1]) * size_t(z));
-  }
 
   const MeshPart& mesh_;
-  glm::vec3 origin_{0.0f};
-  float cell_ = 1.0f;
-  int dims_[3] = {1, 1, 1};
-  std::vector<uint32_t> first_, fill_, items_, stamp_;
-  uint32_t query_ = 0;
+  std::vector<Node> nodes_;
+  std::vector<uint32_t> order_;
 };
 
 // An upper bound of the distance from every point of `from`'s triangles to the surface of
-// `grid`, from distances at the points of a barycentric grid of level k on each triangle
+// `tree`, from distances at the points of a barycentric grid of level k on each triangle
 // (sub-triangles of edge L/k). On a sub-triangle the distance is at most
 //  - its corners' largest plus L / (k sqrt 3): distance to a surface is 1-Lipschitz and every
 //    point lies within that of a corner;
 //  - its corners' largest distance to any one triangle of the surface (the nearest of one of
 //    its corners): distance to a triangle, a convex set, is convex, so its largest on a
 //    triangle is at a corner. This settles sub-triangles that lie on a facet at once.
-// Triangles start at level 2 and are refined, to at most level 16, while their bound exceeds
-// both the largest distance sampled so far and `resolution`.
-float distance_bound(const MeshPart& from, TriangleGrid& grid, float resolution) {
+// Triangles start at level 1 (their corners, measured once per position however many
+// triangles share it: most triangles of a detailed mesh settle there); where their bound
+// exceeds both the largest distance sampled so far and `resolution` they are split
+// adaptively, down to the sub-triangles of level 16.
+float distance_bound(const MeshPart& from, const TriangleTree& tree, float resolution) {
   struct Sample {
     float distance;
     uint32_t triangle;
   };
-  std::vector<Sample> samples;
   float sampled = 0.0f;  // a lower bound of the answer
-  auto bound_at_level = [&](uint32_t t, int k) {
-    const glm::vec3 a = from.vertices[from.indices[3 * size_t(t)]].position,
-                    b = from.vertices[from.indices[3 * size_t(t) + 1]].position,
-                    c = from.vertices[from.indices[3 * size_t(t) + 2]].position;
-    auto point = [&](int i, int j) {
-      return a + (b - a) * (float(i) / float(k)) + (c - a) * (float(j) / float(k));
-    };
-    auto at = [&](int i, int j) -> Sample& { return samples[size_t(i * (k + 1) + j)]; };
-    samples.assign(size_t((k + 1) * (k + 1)), {0.0f, 0});
-    for (int i = 0; i <= k; ++i)
-      for (int j = 0; i + j <= k; ++j) {
-        const TriangleGrid::Nearest n = grid.nearest(point(i, j));
-        at(i, j) = {n.distance, n.triangle};
+  // A bound of one triangle (or sub-triangle) from its corners p and their samples s.
+  auto settle = [&](const glm::vec3* p, const Sample* const* s, float radius) {
+    float b = std::max({s[0]->distance, s[1]->distance, s[2]->distance}) + radius;
+    if (b <= sampled) return b;  // cannot raise the answer
+    for (int c = 0; c < 3 && b > sampled; ++c) {
+      if (c > 0 &&
+          (s[c]->triangle == s[0]->triangle || (c == 2 && s[2]->triangle == s[1]->triangle)))
+        continue;  // the same triangle gives the same bound
+      float convex = 0.0f;
+      for (int q = 0; q < 3 && convex < b; ++q)
+        convex = std::max(convex, tree.distance_to(p[q], s[c]->triangle));
+      b = std::min(b, convex);
+    }
+    return b;
+  };
+  auto corner = [&](uint32_t t, int k) -> const glm::vec3& {
+    return from.vertices[from.indices[3 * size_t(t) + size_t(k)]].position;
+  };
+  auto longest_edge = [&](uint32_t t) {
+    const glm::vec3 &a = corner(t, 0), &b = corner(t, 1), &c = corner(t, 2);
+    return std::max({glm::distance(a, b), glm::distance(b, c), glm::distance(c, a)});
+  };
+
+  // Level 1: the corners, one query per distinct position.
+  std::vector<uint32_t> shadow(from.indices.size());
+  meshopt_generateShadowIndexBuffer(shadow.data(), from.indices.data(), from.indices.size(),
+                                    &from.vertices[0].position.x, from.vertices.size(),
+                                    sizeof(glm::vec3), sizeof(Vertex));
+  std::vector<Sample> at_vertex(from.vertices.size(), {-1.0f, 0});
+  uint32_t hint = 0;
+  for (uint32_t v : shadow) {
+    if (at_vertex[v].distance >= 0.0f) continue;
+    const TriangleTree::Nearest n = tree.nearest(from.vertices[v].position, hint);
+    hint = n.triangle;
+    at_vertex[v] = {n.distance, n.triangle};
+    sampled = std::max(sampled, n.distance);
+  }
+  std::vector<std::pair<uint32_t, float>> pending;  // triangle, bound
+  pending.reserve(from.triangle_count());
+  for (uint32_t t = 0; t < from.triangle_count(); ++t) {
+    const glm::vec3 p[3] = {corner(t, 0), corner(t, 1), corner(t, 2)};
+    const Sample* s[3] = {&at_vertex[shadow[3 * size_t(t)]], &at_vertex[shadow[3 * size_t(t) + 1]],
+                          &at_vertex[shadow[3 * size_t(t) + 2]]};
+    pending.push_back({t, settle(p, s, longest_edge(t) / std::sqrt(3.0f))});
+  }
+
+  // Unsettled triangles, the loosest first (refining it raises `sampled` soonest), split in
+  // four at their edge midpoints where their bound is still too loose, at most four times
+  // (sub-triangles of an edge 1/16 of the triangle's).
+  std::sort(pending.begin(), pending.end(),
+            [](const auto& l, const auto& r) { return l.second > r.second; });
+  struct Piece {
+    glm::vec3 p[3];
+    Sample s[3];
+    int depth;
+  };
+  std::vector<Piece> stack;
+  float result = 0.0f;
+  for (const auto& [t, bound] : pending) {
+    if (bound <= std::max(sampled, resolution)) {
+      result = std::max(result, bound);
+      continue;
+    }
+    Piece whole{{corner(t, 0), corner(t, 1), corner(t, 2)}, {}, 0};
+    for (int c = 0; c < 3; ++c) whole.s[c] = at_vertex[shadow[3 * size_t(t) + size_t(c)]];
+    stack.push_back(whole);
+    while (!stack.empty()) {
+      const Piece piece = stack.back();
+      stack.pop_back();
+      const glm::vec3 m[3] = {(piece.p[0] + piece.p[1]) * 0.5f, (piece.p[1] + piece.p[2]) * 0.5f,
+                              (piece.p[2] + piece.p[0]) * 0.5f};
+      Sample ms[3];
+      for (int c = 0; c < 3; ++c) {
+        const TriangleTree::Nearest n = tree.nearest(m[c], piece.s[c].triangle);
+        ms[c] = {n.distance, n.triangle};
         sampled = std::max(sampled, n.distance);
       }
-    const float longest = std::max({glm::distance(a, b), glm::distance(b, c), glm::distance(c, a)});
-    const float radius = longest / (float(k) * std::sqrt(3.0f));
-    float bound = 0.0f;
-    auto sub_triangle = [&](int i0, int j0, int i1, int j1, int i2, int j2) {
-      const Sample* s[3] = {&at(i0, j0), &at(i1, j1), &at(i2, j2)};
-      float b = std::max({s[0]->distance, s[1]->distance, s[2]->distance}) + radius;
-      if (b <= sampled) return;  // cannot raise the answer
-      const glm::vec3 p[3] = {point(i0, j0), point(i1, j1), point(i2, j2)};
-      for (const Sample* candidate : s) {
-        float convex = 0.0f;
-        for (const glm::vec3& q : p)
-          convex = std::max(convex, grid.distance_to(q, candidate->triangle));
-        b = std::min(b, convex);
+      const Piece children[4] = {{{piece.p[0], m[0], m[2]}, {piece.s[0], ms[0], ms[2]}, 0},
+                                 {{m[0], piece.p[1], m[1]}, {ms[0], piece.s[1], ms[1]}, 0},
+                                 {{m[2], m[1], piece.p[2]}, {ms[2], ms[1], piece.s[2]}, 0},
+                                 {{m[0], m[1], m[2]}, {ms[0], ms[1], ms[2]}, 0}};
+      for (Piece child : children) {
+        child.depth = piece.depth + 1;
+        const float longest =
+            std::max({glm::distance(child.p[0], child.p[1]), glm::distance(child.p[1], child.p[2]),
+                      glm::distance(child.p[2], child.p[0])});
+        const Sample* cs[3] = {&child.s[0], &child.s[1], &child.s[2]};
+        const float b = settle(child.p, cs, longest / std::sqrt(3.0f));
+        if (b <= std::max(sampled, resolution) || child.depth >= 4)
+          result = std::max(result, b);
+        else
+          stack.push_back(child);
       }
-      bound = std::max(bound, b);
-    };
-    for (int i = 0; i < k; ++i)
-      for (int j = 0; i + j < k; ++j) {
-        sub_triangle(i, j, i + 1, j, i, j + 1);
-        if (i + j + 2 <= k) sub_triangle(i + 1, j, i + 1, j + 1, i, j + 1);
-      }
-    return bound;
-  };
-  std::vector<std::pair<uint32_t, float>> pending;  // triangle, bound
-  for (uint32_t t = 0; t < from.triangle_count(); ++t) pending.push_back({t, bound_at_level(t, 2)});
-  float result = 0.0f;
-  for (int k = 4; !pending.empty(); k *= 2) {
-    std::vector<std::pair<uint32_t, float>> next;
-    for (const auto& [t, bound] : pending) {
-      if (bound <= std::max(sampled, resolution)) {
-        result = std::max(result, bound);
-        continue;
-      }
-      if (k > 16) {
-        result = std::max(result, bound);
-        continue;
-      }
-      next.push_back({t, bound_at_level(t, k)});
     }
-    pending.swap(next);
   }
   return std::max(result, sampled);
 }
@@ -257,19 +313,16 @@ float surface_distance(const MeshPart& from, const MeshPart& to) {
   if (to.indices.empty()) return std::numeric_limits<float>::infinity();
   Bounds3 region = bounds_of(from);
   region.expand(bounds_of(to));
-  TriangleGrid grid(to, region);
-  return distance_bound(from, grid, kResolution * glm::length(region.size()));
+  const TriangleTree tree(to);
+  return distance_bound(from, tree, kResolution * glm::length(region.size()));
 }
 
 float farthest_distance(const std::vector<glm::vec3>& points, const MeshPart& mesh) {
   if (points.empty()) return 0.0f;
   if (mesh.indices.empty()) return std::numeric_limits<float>::infinity();
-  Bounds3 region;
-  for (const Vertex& v : mesh.vertices) region.expand(v.position);
-  for (const glm::vec3& p : points) region.expand(p);
-  TriangleGrid grid(mesh, region);
+  const TriangleTree tree(mesh);
   float farthest = 0.0f;
-  for (const glm::vec3& p : points) farthest = std::max(farthest, grid.distance(p));
+  for (const glm::vec3& p : points) farthest = std::max(farthest, tree.distance(p));
   return farthest;
 }
 
