@@ -10,6 +10,7 @@
 
 #include "farfield/core/progress.hpp"
 #include "farfield/scene/tree_generator.hpp"
+#include "test_util.hpp"
 
 namespace farfield {
 namespace {
@@ -55,27 +56,6 @@ std::vector<uint32_t> all_objects(const Scene& scene) {
   return out;
 }
 
-// Random points on the triangles of `mesh`.
-std::vector<glm::vec3> random_surface_points(const MeshPart& mesh, int count, uint32_t seed) {
-  std::mt19937 random(seed);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  std::uniform_int_distribution<size_t> triangle(0, mesh.triangle_count() - 1);
-  std::vector<glm::vec3> out;
-  for (int i = 0; i < count; ++i) {
-    const size_t t = triangle(random);
-    float r1 = unit(random), r2 = unit(random);
-    if (r1 + r2 > 1.0f) {
-      r1 = 1.0f - r1;
-      r2 = 1.0f - r2;
-    }
-    const glm::vec3 a = mesh.vertices[mesh.indices[3 * t]].position,
-                    b = mesh.vertices[mesh.indices[3 * t + 1]].position,
-                    c = mesh.vertices[mesh.indices[3 * t + 2]].position;
-    out.push_back(a + r1 * (b - a) + r2 * (c - a));
-  }
-  return out;
-}
-
 TEST(Simplify, FarthestDistanceToATriangle) {
   MeshPart m;
   const uint32_t n = pack_normal({0, 0, 1});
@@ -107,8 +87,8 @@ TEST(Simplify, StoredErrorBoundsTheDistanceBetweenTheSurfaces) {
     EXPECT_LT(lod.mesh.triangle_count(), previous);
     EXPECT_LE(double(lod.mesh.triangle_count()), 1.3 * ratio * double(part.triangle_count()) + 4);
     EXPECT_TRUE(std::isfinite(lod.error_m));
-    const float there = farthest_distance(random_surface_points(part, 4000, 1), lod.mesh);
-    const float back = farthest_distance(random_surface_points(lod.mesh, 4000, 2), part);
+    const float there = farthest_distance(test::random_surface_points(part, 4000, 1), lod.mesh);
+    const float back = farthest_distance(test::random_surface_points(lod.mesh, 4000, 2), part);
     EXPECT_LE(there, lod.error_m * 1.001f + 1e-5f);
     EXPECT_LE(back, lod.error_m * 1.001f + 1e-5f);
     previous = lod.mesh.triangle_count();
@@ -154,7 +134,7 @@ TEST(Simplify, SeparatePartsFallBackToTheSloppySimplifier) {
   EXPECT_TRUE(lod.sloppy);
   EXPECT_LT(lod.mesh.triangle_count(), part.triangle_count() / 2);
   EXPECT_GT(lod.error_m, 0.5f);
-  EXPECT_LE(farthest_distance(random_surface_points(part, 4000, 3), lod.mesh),
+  EXPECT_LE(farthest_distance(test::random_surface_points(part, 4000, 3), lod.mesh),
             lod.error_m * 1.001f + 1e-5f);
   const SimplifiedPart strict = simplify_part(part, {.target_ratio = 0.1, .allow_sloppy = false});
   EXPECT_FALSE(strict.sloppy);

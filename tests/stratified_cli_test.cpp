@@ -3,11 +3,9 @@
 // with its name. Needs GL (skipped without a context).
 #include <gtest/gtest.h>
 
-#include <fcntl.h>
 #include <signal.h>
 #include <sqlite3.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <regex>
@@ -50,17 +48,8 @@ TEST(StratifiedCliGL, KilledBakeResumesWithoutRedoingViewcells) {
                                          "--set", "stratified.limit=100,100,148,160",
                                          "--out", pack,
                                          "-q"};
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    std::vector<char*> argv{const_cast<char*>(FARFIELD_EXE)};
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    const int devnull = ::open("/dev/null", O_WRONLY);
-    dup2(devnull, 2);
-    execv(FARFIELD_EXE, argv.data());
-    _exit(127);
-  }
+  const pid_t child = test::spawn_farfield(args);
+  ASSERT_GT(child, 0);
   // Kill it once a few viewcells are in, well before the end.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (baked_count(pack) < 5 && std::chrono::steady_clock::now() < deadline)

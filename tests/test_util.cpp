@@ -1,5 +1,6 @@
 #include "test_util.hpp"
 
+#include <fcntl.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <atomic>
 #include <cstdio>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <unistd.h>
 
@@ -137,6 +139,18 @@ CommandResult run_farfield(const std::string& args, const std::string& cwd,
   return result;
 }
 
+int spawn_farfield(const std::vector<std::string>& args) {
+  const pid_t child = fork();
+  if (child != 0) return child;
+  std::vector<char*> argv{const_cast<char*>(FARFIELD_EXE)};
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const int devnull = ::open("/dev/null", O_WRONLY);
+  dup2(devnull, 2);
+  execv(FARFIELD_EXE, argv.data());
+  _exit(127);
+}
+
 void write_file(const std::string& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
 }
@@ -146,6 +160,26 @@ std::string read_file(const std::string& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+std::vector<glm::vec3> random_surface_points(const MeshPart& mesh, int count, uint32_t seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::uniform_int_distribution<size_t> triangle(0, mesh.triangle_count() - 1);
+  std::vector<glm::vec3> out;
+  for (int i = 0; i < count; ++i) {
+    const size_t t = triangle(random);
+    float r1 = unit(random), r2 = unit(random);
+    if (r1 + r2 > 1.0f) {
+      r1 = 1.0f - r1;
+      r2 = 1.0f - r2;
+    }
+    const glm::vec3 a = mesh.vertices[mesh.indices[3 * t]].position,
+                    b = mesh.vertices[mesh.indices[3 * t + 1]].position,
+                    c = mesh.vertices[mesh.indices[3 * t + 2]].position;
+    out.push_back(a + r1 * (b - a) + r2 * (c - a));
+  }
+  return out;
 }
 
 }  // namespace farfield::test

@@ -8,6 +8,7 @@
 
 #include "farfield/gpu/device.hpp"
 #include "farfield/scene/scene.hpp"
+#include "farfield/scene/simplify.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
 
 namespace farfield::test {
@@ -51,7 +52,14 @@ struct CommandResult {
 CommandResult run_farfield(const std::string& args, const std::string& cwd = "",
                            const std::string& wrapper = "");
 
+// Starts the farfield executable with `args` in a child process, its stderr sent to
+// /dev/null (for tests that kill it half-way); returns the child's pid.
+int spawn_farfield(const std::vector<std::string>& args);
+
 void write_file(const std::string& path, const std::string& bytes);
+
+// `count` random points on the triangles of `mesh` (uniform over triangles, then area).
+std::vector<glm::vec3> random_surface_points(const MeshPart& mesh, int count, uint32_t seed);
 
 // Arrays of plain records equal byte for byte (padding included, as written to files).
 template <class T>

@@ -13,4 +13,10 @@ namespace farfield {
 void parallel_for(size_t count, int threads, Progress& progress, const std::string& task,
                   const std::function<void(size_t)>& work);
 
+// As above, and `poll()` on the calling thread while the work runs (every 50 ms) and once
+// after it: the place for work that must stay on one thread (writing finished results to a
+// store). When poll returns false, no further work starts and parallel_for returns false.
+bool parallel_for(size_t count, int threads, Progress& progress, const std::string& task,
+                  const std::function<void(size_t)>& work, const std::function<bool()>& poll);
+
 }  // namespace farfield

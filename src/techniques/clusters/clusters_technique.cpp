@@ -38,6 +38,27 @@ constexpr SettingSpec kSettings[] = {
      .min = 1,
      .max = 1e6,
      .baked = true},
+    {.key = "leaf_objects",
+     .type = SettingType::integer,
+     .default_value = "16",
+     .help = "a cell of the cluster hierarchy with more objects wholly inside is split in eight",
+     .min = 1,
+     .max = 1e6,
+     .baked = true},
+    {.key = "cluster_triangles",
+     .type = SettingType::integer,
+     .default_value = "2048",
+     .help = "most triangles of a cluster's merged mesh (at most half of what it stands for at "
+             "its cheapest)",
+     .min = 1,
+     .max = 1e7,
+     .baked = true},
+    {.key = "traversal",
+     .type = SettingType::choice,
+     .default_value = "refined",
+     .help = "refined: visit only the nodes refined and their children; paper: first look at "
+             "every node and object (paper 001, Sec. 4.5.1, O(n) a frame)",
+     .choices = "refined|paper"},
     {.key = "threads",
      .type = SettingType::integer,
      .default_value = "0",
@@ -46,23 +67,17 @@ constexpr SettingSpec kSettings[] = {
      .max = 1024},
 };
 
-// The distance from the eye to the nearest point of a box (0 inside).
-float distance_to(const Bounds3& box, const glm::vec3& eye) {
-  const glm::vec3 d = glm::max(glm::max(box.min - eye, eye - box.max), glm::vec3(0.0f));
-  return glm::length(d);
-}
-
 }  // namespace
 
 const TechniqueDescriptor clusters_descriptor{
     .name = "clusters",
     .summary =
-        "objects as meshoptimizer LODs within a projected error or a frame budget (paper 001, "
-        "under way)",
+        "a hierarchy of merged cluster meshes and object LODs (meshoptimizer) within a projected "
+        "error or a frame budget (paper 001, under way)",
     .paper = "001",
     .settings = kSettings,
     .bake = BakeUse::optional,
-    .bake_format = 1,
+    .bake_format = 2,
     .make = [](const SettingValues& v,
                const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       ClustersOptions o;
@@ -70,20 +85,33 @@ const TechniqueDescriptor clusters_descriptor{
       o.lods.max_levels = v.integer("levels");
       o.lods.min_triangles = uint32_t(v.integer("min_triangles"));
       o.lods.threads = v.integer("threads");
+      o.tree.leaf_objects = uint32_t(v.integer("leaf_objects"));
+      o.tree.cluster_triangles = uint32_t(v.integer("cluster_triangles"));
+      o.tree.threads = o.lods.threads;
+      o.traversal =
+          v.text("traversal") == "paper" ? ClusterTraversal::paper : ClusterTraversal::refined;
       return std::unique_ptr<Technique>(std::make_unique<ClustersTechnique>(o));
     },
 };
 
+// Finished objects and clusters are kept in the pack as the bake goes (bake_work.hpp), so a
+// bake killed and run again redoes only the rest; the work goes once the bake is saved.
 Result<void> ClustersTechnique::bake(const BakeContext& context) {
-  auto set = build_lod_set(context.scene, options_.lods, context.progress);
-  if (!set) return make_error("clusters: ", set.error().message);
-  if (auto ok = save_lod_set(*set, context.store); !ok) return ok;
-  lods_ = std::move(*set);
+  auto lods = build_lod_set(context.scene, options_.lods, context.progress, &context.store);
+  if (!lods) return make_error("clusters: ", lods.error().message);
+  auto tree =
+      build_cluster_tree(context.scene, *lods, options_.tree, context.progress, &context.store);
+  if (!tree) return make_error("clusters: ", tree.error().message);
+  if (auto ok = save_lod_set(*lods, context.store); !ok) return ok;
+  if (auto ok = save_cluster_tree(*tree, context.store); !ok) return ok;
+  if (auto erased = context.store.erase("clusters/work/"); !erased) return erased.error();
+  lods_ = std::move(*lods);
+  tree_ = std::move(*tree);
   return {};
 }
 
 Result<void> ClustersTechnique::load(const LoadContext& context) {
-  // A pack that holds a clusters bake is read; without one the LODs are made now.
+  // A pack that holds a clusters bake is read; without one the hierarchy is made now.
   auto record = context.store ? read_bake_record(*context.store, "clusters")
                               : Result<std::optional<BakeRecord>>(std::optional<BakeRecord>{});
   if (!record) return record.error();
@@ -92,161 +120,119 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
                                   scene_fingerprint(context.scene));
         !usable)
       return usable.error();
-    auto set = load_lod_set(*context.store, context.scene);
-    if (!set) return set.error();
-    return use(std::move(*set), context.scene, context.device);
+    auto lods = load_lod_set(*context.store, context.scene);
+    if (!lods) return lods.error();
+    auto tree = load_cluster_tree(*context.store, context.scene);
+    if (!tree) return tree.error();
+    return use(std::move(*lods), std::move(*tree), context.scene, context.device);
   }
-  auto set = build_lod_set(context.scene, options_.lods, context.progress);
-  if (!set) return make_error("clusters: ", set.error().message);
-  return use(std::move(*set), context.scene, context.device);
+  auto lods = build_lod_set(context.scene, options_.lods, context.progress);
+  if (!lods) return make_error("clusters: ", lods.error().message);
+  auto tree = build_cluster_tree(context.scene, *lods, options_.tree, context.progress);
+  if (!tree) return make_error("clusters: ", tree.error().message);
+  return use(std::move(*lods), std::move(*tree), context.scene, context.device);
 }
 
-Result<void> ClustersTechnique::use(LodSet set, const Scene& scene, gpu::Device& device) {
-  lods_ = std::move(set);
+Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, const Scene& scene,
+                                    gpu::Device& device) {
+  lods_ = std::move(lods);
+  tree_ = std::move(tree);
   scene_ = &scene;
   resources_.bind(device);
-  mesh_ = {};
+  lod_mesh_ = cluster_mesh_ = {};
   if (!lods_.indices.empty()) {
     auto mesh = resources_.scene_mesh(lods_.vertices, lods_.uvs, lods_.indices);
     if (!mesh) return make_error("clusters: ", mesh.error().message);
-    mesh_ = *mesh;
+    lod_mesh_ = *mesh;
   }
-  std::vector<Bounds3> bounds(scene.objects.size());
-  for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = scene.objects[i].bounds;
-  tree_ = build_octree(bounds, {});
+  if (!tree_.indices.empty()) {
+    auto mesh = resources_.scene_mesh(tree_.vertices, tree_.uvs, tree_.indices);
+    if (!mesh) return make_error("clusters: ", mesh.error().message);
+    cluster_mesh_ = *mesh;
+  }
+  selection_ = std::make_unique<ClusterSelection>(scene, tree_, lods_);
   full_ = std::make_unique<ObjectSet>(scene);
-  seen_ = std::make_unique<ObjectSet>(scene);
-  stack_.reserve(8 * (tree_.depth + 1) + 1);
-  frames_ = lods_drawn_ = full_drawn_ = 0;
+  frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = 0;
   cost_ = {};
-  visible_.reserve(scene.objects.size());
-  refine_.reserve(scene.objects.size());
   return {};
 }
 
 void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
-  if (tree_.nodes.empty() || input.region.kind == Region::Kind::far_field) return;
+  if (!selection_ || tree_.nodes.empty() || input.region.kind == Region::Kind::far_field) return;
   const View& view = input.view;
   ++frames_;
   const Frustum frustum(view);
-  const glm::vec3 eye = view.pose.position;
-  const bool near = input.region.kind == Region::Kind::near;
-  // The objects in view, each once (an object may lie in several leaves).
-  visible_.clear();
-  seen_->clear();
-  stack_.clear();
-  stack_.push_back(0);
-  while (!stack_.empty()) {
-    const OctreeNode& node = tree_.nodes[stack_.back()];
-    stack_.pop_back();
-    const Visibility v = frustum.classify(node.bounds);
-    if (v == Visibility::none || (near && !meet(node.bounds, input.region.box))) continue;
-    if (v == Visibility::partial && !node.leaf()) {
-      for (uint32_t c = 0; c < node.child_count; ++c) stack_.push_back(node.first_child + c);
-      continue;
-    }
-    for (uint32_t i = node.items_begin; i < node.items_end; ++i) {
-      const uint32_t object = tree_.items[i];
-      const Object& o = scene_->objects[object];
-      if (v == Visibility::partial && frustum.classify(o.bounds) == Visibility::none) continue;
-      if (near && !meet(o.bounds, input.region.box)) continue;
-      if (seen_->contains(object)) continue;
-      seen_->insert(object);
-      visible_.push_back({object, distance_to(o.bounds, eye), kWhole});
-    }
-  }
+  SelectionView sv;
+  sv.frustum = &frustum;
+  sv.eye = view.pose.position;
   // A length e at distance d covers e / (d * pixel) pixels at the centre of the view.
-  const float pixel = 2.0f * std::tan(glm::radians(view.hfov_deg) * 0.5f) / float(view.width);
-  if (!(input.budget.target_ms > 0.0) || !choose_under_budget(input.budget, pixel))
-    choose_by_error(pixel);
+  sv.pixel = 2.0f * std::tan(glm::radians(view.hfov_deg) * 0.5f) / float(view.width);
+  if (input.region.kind == Region::Kind::near) sv.near_box = input.region.box;
+  sv.error_px = options_.error_px;
+  // Paper 001, Sec. 4.5.2 under the budget: the triangles that the cost model fitted to the
+  // frames measured so far predicts will fit, a tenth of the budget held back; before any
+  // frame was measured there is no model, and the error rule decides.
+  if (input.budget.target_ms > 0.0) {
+    cost_.observe(double(input.budget.last_triangles), input.budget.last_frame_ms);
+    if (cost_.ready()) sv.max_triangles = cost_.triangles_within(0.9 * input.budget.target_ms);
+  }
+  const SelectionStats stats = selection_->select(sv, options_.traversal, choices_);
+  visited_ += stats.nodes_visited;
   full_->clear();
-  for (const Candidate& c : visible_) {
-    const Object& o = scene_->objects[c.object];
-    if (c.level == kWhole) {
-      full_->insert(c.object);
-      ++full_drawn_;
-      continue;
+  auto push = [&](uint32_t first, uint32_t count, uint32_t material, MeshHandle mesh) {
+    (scene_->materials[material].transparent() ? out.transparent : out.opaque)
+        .push_back({first, count, material, mesh});
+  };
+  for (const Choice& c : choices_) {
+    switch (c.kind) {
+      case Choice::Kind::cluster: {
+        ++clusters_drawn_;
+        const ClusterNode& node = tree_.nodes[c.index];
+        for (uint32_t p = node.parts_begin; p < node.parts_end; ++p) {
+          const ClusterPart& part = tree_.parts[p];
+          push(part.first_index, part.index_count, part.material, cluster_mesh_);
+        }
+        break;
+      }
+      case Choice::Kind::lod: {
+        ++lods_drawn_;
+        const Lod& lod = lods_.lods[c.index];
+        push(lod.first_index, lod.index_count, scene_->objects[lod.object].material, lod_mesh_);
+        break;
+      }
+      case Choice::Kind::whole:
+        ++full_drawn_;
+        full_->insert(c.index);
+        break;
     }
-    ++lods_drawn_;
-    const Lod& lod = lods_.lods[c.level];
-    (scene_->materials[o.material].transparent() ? out.transparent : out.opaque)
-        .push_back({lod.first_index, lod.index_count, o.material, mesh_});
   }
   full_->emit(out);  // the whole objects, in scene order
 }
 
-// Each object as the coarsest level whose error, seen from its nearest point, covers at most
-// error_px pixels; the whole object where none does.
-void ClustersTechnique::choose_by_error(float pixel) {
-  const float allowed = options_.error_px * pixel;  // metres of error per metre of distance
-  for (Candidate& c : visible_) {
-    const float within = allowed * c.distance;
-    c.level = kWhole;
-    for (uint32_t k = lods_.first_lod[c.object]; k < lods_.first_lod[c.object + 1]; ++k) {
-      if (lods_.lods[k].error_m > within) break;
-      c.level = k;
-    }
-  }
-}
-
-// Paper 001, Sec. 4.5.2, among objects until the cluster hierarchy exists: a complete
-// representation first (every object at its coarsest level), then the object whose drawn
-// error covers the most pixels refined one level at a time while the predicted frame time
-// stays within the budget. The prediction is the cost model fitted to the frames measured so
-// far (frame_cost.hpp), with a tenth of the budget held back; before any frame was measured
-// there is none, and the error rule decides.
-bool ClustersTechnique::choose_under_budget(const FrameBudget& budget, float pixel) {
-  cost_.observe(double(budget.last_triangles), budget.last_frame_ms);
-  if (!cost_.ready()) return false;
-  const double allowed = cost_.triangles_within(0.9 * budget.target_ms);
-  auto triangles = [&](uint32_t object, uint32_t level) -> double {
-    return level == kWhole ? double(scene_->objects[object].index_count / 3)
-                           : double(lods_.lods[level].index_count / 3);
-  };
-  auto error_px = [&](const Candidate& c) {
-    return c.level == kWhole ? 0.0f
-                             : lods_.lods[c.level].error_m / (std::max(c.distance, 1e-3f) * pixel);
-  };
-  double cost = 0.0;
-  refine_.clear();
-  for (size_t i = 0; i < visible_.size(); ++i) {
-    Candidate& c = visible_[i];
-    const uint32_t first = lods_.first_lod[c.object], end = lods_.first_lod[c.object + 1];
-    c.level = end > first ? end - 1 : kWhole;
-    cost += triangles(c.object, c.level);
-    if (c.level != kWhole) refine_.push_back({error_px(c), uint32_t(i)});
-  }
-  std::make_heap(refine_.begin(), refine_.end());
-  while (!refine_.empty()) {
-    std::pop_heap(refine_.begin(), refine_.end());
-    Candidate& c = visible_[refine_.back().second];
-    refine_.pop_back();
-    const uint32_t finer = c.level == lods_.first_lod[c.object] ? kWhole : c.level - 1;
-    const double more = triangles(c.object, finer) - triangles(c.object, c.level);
-    if (cost + more > allowed) continue;  // a cheaper refinement may still fit
-    cost += more;
-    c.level = finer;
-    if (finer != kWhole) {
-      refine_.push_back({error_px(c), uint32_t(&c - visible_.data())});
-      std::push_heap(refine_.begin(), refine_.end());
-    }
-  }
-  return true;
-}
-
 std::string ClustersTechnique::describe() const {
-  uint64_t triangles = lods_.indices.size() / 3;
-  return formatted("%zu levels of detail for %zu objects, %llu triangles in them, made in %.2f s",
-                   lods_.lods.size(),
-                   lods_.first_lod.empty() ? size_t(0) : lods_.first_lod.size() - 1,
-                   (unsigned long long)triangles, lods_.bake_s);
+  size_t clusters = 0;
+  for (const ClusterNode& node : tree_.nodes) clusters += node.clustered();
+  return formatted(
+      "%zu levels of detail for %zu objects (%llu triangles), %zu nodes of which %zu clusters "
+      "(%llu triangles)",
+      lods_.lods.size(), lods_.first_lod.empty() ? size_t(0) : lods_.first_lod.size() - 1,
+      (unsigned long long)(lods_.indices.size() / 3), tree_.nodes.size(), clusters,
+      (unsigned long long)tree_.triangle_count());
 }
 
 std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
+  auto mean = [&](uint64_t sum) { return frames_ ? double(sum) / double(frames_) : 0.0; };
+  size_t clusters = 0;
+  for (const ClusterNode& node : tree_.nodes) clusters += node.clustered();
   return {{"lods", double(lods_.lods.size())},
           {"lod_triangles", double(lods_.indices.size() / 3)},
-          {"mean_objects_as_lods", frames_ ? double(lods_drawn_) / double(frames_) : 0.0},
-          {"mean_objects_full", frames_ ? double(full_drawn_) / double(frames_) : 0.0},
+          {"nodes", double(tree_.nodes.size())},
+          {"clusters", double(clusters)},
+          {"cluster_triangles", double(tree_.triangle_count())},
+          {"mean_clusters_drawn", mean(clusters_drawn_)},
+          {"mean_objects_as_lods", mean(lods_drawn_)},
+          {"mean_objects_full", mean(full_drawn_)},
+          {"mean_visited", mean(visited_)},
           {"cost_fixed_ms", cost_.fixed_ms()},
           {"cost_ms_per_triangle", cost_.ms_per_triangle()}};
 }

@@ -1,14 +1,16 @@
-// clusters: paper 001's walk, first steps: every object drawn as one of its levels of detail
-// (lod_set.hpp) or whole: without a frame-time budget the coarsest level whose geometric error
+// clusters: paper 001's walk over its cluster hierarchy (cluster_tree.hpp): clusters'
+// merged meshes, objects' levels of detail (lod_set.hpp) and whole objects, chosen by
+// cluster_selection.hpp: without a frame-time budget the coarsest whose geometric error
 // projects below `clusters.error_px` pixels (the screen-space error rule of 3D Tiles); under
-// the engine's budget (bench --budget-ms) the paper's best-first refinement (Sec. 4.5.2)
-// among objects. The cluster hierarchy comes next (docs/techniques/clusters.md).
+// the engine's budget (bench --budget-ms) the paper's best-first refinement (Sec. 4.5.2),
+// the budget turned into triangles by a cost model fitted to the frames measured.
 #pragma once
 
 #include <memory>
 
 #include "farfield/core/frustum.hpp"
-#include "farfield/spatial/octree.hpp"
+#include "farfield/techniques/clusters/cluster_selection.hpp"
+#include "farfield/techniques/clusters/cluster_tree.hpp"
 #include "farfield/techniques/clusters/frame_cost.hpp"
 #include "farfield/techniques/clusters/lod_set.hpp"
 #include "farfield/techniques/object_set.hpp"
@@ -20,7 +22,9 @@ extern const TechniqueDescriptor clusters_descriptor;
 
 struct ClustersOptions {
   LodSetOptions lods;
+  ClusterTreeOptions tree;
   float error_px = 1.0f;  // the largest projected geometric error, pixels
+  ClusterTraversal traversal = ClusterTraversal::refined;
 };
 
 class ClustersTechnique final : public Technique {
@@ -34,31 +38,20 @@ class ClustersTechnique final : public Technique {
   std::vector<std::pair<std::string, double>> figures() const override;
 
  private:
-  Result<void> use(LodSet set, const Scene& scene, gpu::Device& device);
-  void choose_by_error(float pixel);
-  bool choose_under_budget(const FrameBudget& budget, float pixel);
-
-  static constexpr uint32_t kWhole = UINT32_MAX;  // a Candidate drawn as the full object
-  struct Candidate {
-    uint32_t object;
-    float distance;  // from the eye to the object's box
-    uint32_t level;  // into lods_.lods, or kWhole
-  };
+  Result<void> use(LodSet lods, ClusterTree tree, const Scene& scene, gpu::Device& device);
 
   ClustersOptions options_;
   const Scene* scene_ = nullptr;
   LodSet lods_;
+  ClusterTree tree_;
   gpu::OwnedResources resources_;
-  MeshHandle mesh_;                  // lods_ as one scene mesh
-  Octree tree_;                      // of objects, for frustum culling
+  MeshHandle lod_mesh_, cluster_mesh_;  // lods_ and tree_'s clusters as scene meshes
+  std::unique_ptr<ClusterSelection> selection_;
   std::unique_ptr<ObjectSet> full_;  // this frame's objects drawn whole
-  std::unique_ptr<ObjectSet> seen_;  // this frame's objects drawn either way
-  std::vector<uint32_t> stack_;
-  std::vector<Candidate> visible_;                  // this frame's objects in view
-  std::vector<std::pair<float, uint32_t>> refine_;  // budget mode: error px, candidate
-  FrameCostModel cost_;                             // budget mode: fitted to measured frames
+  std::vector<Choice> choices_;
+  FrameCostModel cost_;  // budget mode: fitted to measured frames
   // figures()
-  uint64_t frames_ = 0, lods_drawn_ = 0, full_drawn_ = 0;
+  uint64_t frames_ = 0, clusters_drawn_ = 0, lods_drawn_ = 0, full_drawn_ = 0, visited_ = 0;
 };
 
 }  // namespace farfield

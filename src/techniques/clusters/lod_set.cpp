@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <numeric>
 
-#include "farfield/core/parallel.hpp"
+#include "farfield/core/text.hpp"
 #include "farfield/scene/simplify.hpp"
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
+#include "farfield/techniques/clusters/bake_work.hpp"
 
 namespace farfield {
 
@@ -41,21 +43,33 @@ std::vector<SimplifiedPart> lod_chain(const Scene& scene, uint32_t object, const
 
 }  // namespace
 
-Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progress& progress) {
+Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progress& progress,
+                             Store* keep) {
   if (o.max_levels < 1 || o.min_reduction <= 0 || o.min_reduction >= 1)
     return make_error("LOD chains need at least one level and a reduction in (0, 1)");
   const auto start = std::chrono::steady_clock::now();
   const size_t objects = scene.objects.size();
-  std::vector<std::vector<SimplifiedPart>> chains(objects);
-  parallel_for(objects, o.threads, progress, "simplify objects",
-               [&](size_t i) { chains[i] = lod_chain(scene, uint32_t(i), o); });
+  auto work = BakeWork::open(keep, "lods",
+                             formatted("scene %016llx, %d levels, %u triangles, reduction %.17g",
+                                       (unsigned long long)scene_fingerprint(scene), o.max_levels,
+                                       o.min_triangles, o.min_reduction));
+  if (!work) return work.error();
+  // The objects with the most triangles first, so that the last to finish are small.
+  std::vector<uint32_t> order(objects);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t l, uint32_t r) {
+    return scene.objects[l].index_count > scene.objects[r].index_count;
+  });
+  auto chains = work->run("simplify objects", "objects", objects, order, 64, o.threads, progress,
+                          [&](uint32_t i) { return lod_chain(scene, i, o); });
+  if (!chains) return chains.error();
 
   LodSet set;
   const bool textured = !scene.uvs.empty();
   set.first_lod.reserve(objects + 1);
   for (size_t i = 0; i < objects; ++i) {
     set.first_lod.push_back(uint32_t(set.lods.size()));
-    for (SimplifiedPart& lod : chains[i]) {
+    for (SimplifiedPart& lod : (*chains)[i]) {
       const uint32_t base = uint32_t(set.vertices.size());
       if (uint64_t(base) + lod.mesh.vertices.size() >= UINT32_MAX ||
           set.indices.size() + lod.mesh.indices.size() >= UINT32_MAX)
@@ -71,7 +85,7 @@ Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progres
       }
       for (uint32_t v : lod.mesh.indices) set.indices.push_back(base + v);
     }
-    chains[i] = {};
+    (*chains)[i] = {};
   }
   set.first_lod.push_back(uint32_t(set.lods.size()));
   set.bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -81,7 +95,7 @@ Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progres
 Result<void> save_lod_set(const LodSet& set, Store& store) {
   auto transaction = store.begin();
   if (!transaction) return transaction.error();
-  if (auto erased = store.erase("clusters/"); !erased) return erased.error();
+  if (auto erased = store.erase("clusters/lod"); !erased) return erased.error();
   if (auto ok = store.put(kVertices, bytes_of(set.vertices)); !ok) return ok;
   if (auto ok = store.put(kUvs, bytes_of(set.uvs)); !ok) return ok;
   if (auto ok = store.put(kIndices, bytes_of(set.indices)); !ok) return ok;

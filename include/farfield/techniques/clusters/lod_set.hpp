@@ -42,9 +42,12 @@ struct LodSet {
   double bake_s = 0;
 };
 
-Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& options, Progress& progress);
+// `keep`: a pack where finished chains are kept as the work goes, so that a bake killed and
+// run again redoes only the rest (bake_work.hpp); null: nothing kept.
+Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& options, Progress& progress,
+                             Store* keep = nullptr);
 
-// Blobs under "clusters/" (replacing a set there) and back, refusing a missing or
+// Blobs under "clusters/lod*" (replacing a set there) and back, refusing a missing or
 // inconsistent one (ranges past the arrays, objects not of `scene`).
 Result<void> save_lod_set(const LodSet& set, Store& store);
 Result<LodSet> load_lod_set(const Store& store, const Scene& scene);

@@ -1,0 +1,101 @@
+// What the clusters technique draws in a frame, chosen over the cluster hierarchy (paper 001,
+// Sec. 4.5) without GL, so that tests can check it on hand-made hierarchies:
+//  - by error (no budget): from the root down, a cluster wherever its geometric error projects
+//    below `error_px` pixels, else its objects (each as the coarsest level of detail under
+//    that error, or whole) and its children;
+//  - under a budget of triangles (the frame-time budget through the cost model): the paper's
+//    best-first refinement (Sec. 4.5.2): a complete coarsest representation of what the
+//    frustum sees first (the root's cluster), then the representation whose error covers
+//    the most pixels refined (a cluster into its objects and children, an object one level
+//    finer) while the triangles stay within the budget, so that every step is complete.
+// Two traversals: `refined` (the default) visits only the nodes it refines and their children,
+// from bounds stored per node; `paper` first classifies every node and object of the scene
+// (Sec. 4.5.1's first pass over all objects, O(n), which Sec. 6 names the method's limit),
+// then refines from what that pass found, so that both can be measured.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "farfield/core/frustum.hpp"
+#include "farfield/scene/scene.hpp"
+#include "farfield/techniques/clusters/cluster_tree.hpp"
+#include "farfield/techniques/clusters/lod_set.hpp"
+
+namespace farfield {
+
+enum class ClusterTraversal { refined, paper };
+
+struct SelectionView {
+  const Frustum* frustum = nullptr;
+  glm::vec3 eye{0.0f};
+  float pixel = 1e-3f;  // the size of a pixel at unit distance (view centre), metres per metre
+  std::optional<Bounds3> near_box;  // drawing for a near region only: what meets it
+  float error_px = 1.0f;            // by error: the largest projected error
+  double max_triangles = -1.0;      // >= 0: under this budget instead
+};
+
+// One thing to draw: a cluster's mesh, an object's level of detail, or an object whole.
+struct Choice {
+  enum class Kind : uint8_t { cluster, lod, whole };
+  Kind kind;
+  uint32_t index;  // node, into LodSet::lods, or object
+};
+
+struct SelectionStats {
+  uint64_t nodes_visited = 0;  // nodes whose visibility was tested
+  uint64_t triangles = 0;      // of the choices
+  float largest_error_px = 0;  // the coarsest choice's projected error
+};
+
+class ClusterSelection {
+ public:
+  // All three outlive the selection.
+  ClusterSelection(const Scene& scene, const ClusterTree& tree, const LodSet& lods);
+  // This frame's choices (replacing `out`'s).
+  SelectionStats select(const SelectionView& view, ClusterTraversal traversal,
+                        std::vector<Choice>& out);
+
+ private:
+  static constexpr uint32_t kWhole = UINT32_MAX;
+  // A representation in the budget's front: a cluster (object == kNone) or an object at a
+  // level (kWhole: whole).
+  static constexpr uint32_t kNone = UINT32_MAX;
+  struct Item {
+    uint32_t node, object, level;
+    float distance;
+    uint64_t triangles;
+    bool live;
+  };
+  struct Seen {
+    bool visible;
+    bool clusterable;  // a cluster may stand for it (within the near region, if any)
+    float distance;
+  };
+  Seen see_node(uint32_t node);
+  Seen see_object(uint32_t object);
+  void classify_all();
+  float projected(float error_m, float distance) const;
+  uint64_t object_triangles(uint32_t object, uint32_t level) const;
+  float lod_error(uint32_t level) const;  // 0 for kWhole
+  void by_error(std::vector<Choice>& out, SelectionStats& stats);
+  void under_budget(std::vector<Choice>& out, SelectionStats& stats);
+  // The coarsest complete representation of a node's visible content, appended to `into`.
+  uint64_t open(uint32_t node, bool use_cluster, std::vector<Item>& into);
+
+  const Scene& scene_;
+  const ClusterTree& tree_;
+  const LodSet& lods_;
+  const SelectionView* view_ = nullptr;
+  bool precomputed_ = false;
+  uint64_t visited_ = 0;
+  std::vector<Seen> node_seen_, object_seen_;  // the paper traversal's first pass
+  std::vector<Item> items_, opened_;
+  std::vector<std::pair<float, uint32_t>> heap_;  // projected error, item
+  std::vector<uint32_t> stack_;
+};
+
+}  // namespace farfield

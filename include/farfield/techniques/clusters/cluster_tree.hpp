@@ -1,0 +1,81 @@
+// The cluster hierarchy of paper 001, Sec. 4.4, built bottom-up over octree cells: each object
+// lies in the smallest cell that wholly contains it (objects on a cell's boundaries are grouped
+// higher up), and a cell where more than one object lies wholly inside gets a cluster: one
+// merged mesh of those objects per material, simplified from the real objects (never from the
+// clusters below it) by scene/simplify, with its geometric error in metres (a modern HLOD: the
+// paper's cluster representation is a textured box; this is the geometric one beside it).
+// A node's error is never below its children's, so that refining never makes the error worse.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "farfield/core/bounds.hpp"
+#include "farfield/core/progress.hpp"
+#include "farfield/core/result.hpp"
+#include "farfield/scene/scene.hpp"
+#include "farfield/techniques/clusters/lod_set.hpp"
+
+namespace farfield {
+
+class Store;
+
+struct ClusterNode {
+  Bounds3 bounds;                             // of the objects beneath it, children's included
+  uint32_t first_child = 0, child_count = 0;  // children are consecutive nodes
+  // ClusterTree::objects: [objects_begin, own_end) lie at this node (on its children's
+  // boundaries, or in a leaf), [objects_begin, objects_end) beneath it.
+  uint32_t objects_begin = 0, own_end = 0, objects_end = 0;
+  uint32_t parts_begin = 0, parts_end = 0;  // ClusterTree::parts: its merged mesh; none: no cluster
+  uint32_t triangles = 0;                   // of its merged mesh
+  float error_m = 0;                        // of its merged mesh, at least its children's
+  uint32_t unused = 0;
+  bool clustered() const { return parts_end > parts_begin; }
+  bool leaf() const { return child_count == 0; }
+};
+static_assert(sizeof(ClusterNode) == 64);
+
+// One material of a cluster's mesh: a range of ClusterTree::indices.
+struct ClusterPart {
+  uint32_t first_index = 0, index_count = 0;
+  uint32_t material = 0;
+  uint32_t unused = 0;
+};
+static_assert(sizeof(ClusterPart) == 16);
+
+struct ClusterTreeOptions {
+  uint32_t leaf_objects = 16;         // a cell with more objects wholly inside is split
+  int max_depth = 16;                 // cells this deep are not split
+  uint32_t cluster_triangles = 2048;  // most triangles of a cluster's mesh
+  int threads = 0;                    // 0: all cores
+};
+
+struct ClusterTree {
+  std::vector<ClusterNode> nodes;  // nodes[0] is the root
+  std::vector<uint32_t> objects;   // every object of the scene once, by node (depth first)
+  std::vector<ClusterPart> parts;
+  std::vector<Vertex> vertices;  // the clusters' meshes
+  std::vector<glm::vec2> uvs;    // one per vertex, or empty (untextured scene)
+  std::vector<uint32_t> indices;
+  double bake_s = 0;
+  uint64_t triangle_count() const { return indices.size() / 3; }
+};
+
+// The cells and the objects in them, without meshes (fast: for tests and the mesh bake).
+ClusterTree build_cluster_cells(const Scene& scene, const ClusterTreeOptions& options);
+// The cells and every cluster's mesh, each at most half the triangles of what it stands for
+// at its cheapest (its objects at their coarsest levels in `lods`, which may be empty, and
+// its children's clusters), so that refining never lowers the cost.
+// `keep`: a pack where finished clusters are kept as the work goes (as build_lod_set's).
+Result<ClusterTree> build_cluster_tree(const Scene& scene, const LodSet& lods,
+                                       const ClusterTreeOptions& options, Progress& progress,
+                                       Store* keep = nullptr);
+
+// Blobs under "clusters/tree_*" and back, refusing a missing or inconsistent tree (children or
+// ranges past the arrays, objects not each of `scene` once, materials not of `scene`).
+Result<void> save_cluster_tree(const ClusterTree& tree, Store& store);
+Result<ClusterTree> load_cluster_tree(const Store& store, const Scene& scene);
+
+}  // namespace farfield

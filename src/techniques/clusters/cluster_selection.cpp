@@ -1,0 +1,216 @@
+#include "farfield/techniques/clusters/cluster_selection.hpp"
+
+#include <algorithm>
+
+#include <glm/geometric.hpp>
+
+namespace farfield {
+
+namespace {
+
+// The distance from the eye to the nearest point of a box (0 inside).
+float distance_to(const Bounds3& box, const glm::vec3& eye) {
+  const glm::vec3 d = glm::max(glm::max(box.min - eye, eye - box.max), glm::vec3(0.0f));
+  return glm::length(d);
+}
+
+bool inside(const Bounds3& box, const Bounds3& region) {
+  return box.min.x >= region.min.x && box.min.y >= region.min.y && box.min.z >= region.min.z &&
+         box.max.x <= region.max.x && box.max.y <= region.max.y && box.max.z <= region.max.z;
+}
+
+}  // namespace
+
+ClusterSelection::ClusterSelection(const Scene& scene, const ClusterTree& tree, const LodSet& lods)
+    : scene_(scene), tree_(tree), lods_(lods) {}
+
+ClusterSelection::Seen ClusterSelection::see_node(uint32_t node) {
+  if (precomputed_) return node_seen_[node];
+  ++visited_;
+  const Bounds3& box = tree_.nodes[node].bounds;
+  const std::optional<Bounds3>& near = view_->near_box;
+  const bool visible =
+      view_->frustum->classify(box) != Visibility::none && (!near || meet(box, *near));
+  return {visible, !near || inside(box, *near), visible ? distance_to(box, view_->eye) : 0.0f};
+}
+
+ClusterSelection::Seen ClusterSelection::see_object(uint32_t object) {
+  if (precomputed_) return object_seen_[object];
+  ++visited_;
+  const Bounds3& box = scene_.objects[object].bounds;
+  const std::optional<Bounds3>& near = view_->near_box;
+  const bool visible =
+      view_->frustum->classify(box) != Visibility::none && (!near || meet(box, *near));
+  return {visible, true, visible ? distance_to(box, view_->eye) : 0.0f};
+}
+
+// Paper 001, Sec. 4.5.1: the first pass looks at every object (and here every node) of the
+// scene, whatever the second pass will use.
+void ClusterSelection::classify_all() {
+  precomputed_ = false;
+  node_seen_.resize(tree_.nodes.size());
+  object_seen_.resize(scene_.objects.size());
+  for (uint32_t n = 0; n < node_seen_.size(); ++n) node_seen_[n] = see_node(n);
+  for (uint32_t o = 0; o < object_seen_.size(); ++o) object_seen_[o] = see_object(o);
+  precomputed_ = true;
+}
+
+float ClusterSelection::projected(float error_m, float distance) const {
+  return error_m / (std::max(distance, 1e-3f) * view_->pixel);
+}
+
+uint64_t ClusterSelection::object_triangles(uint32_t object, uint32_t level) const {
+  return level == kWhole ? scene_.objects[object].index_count / 3
+                         : lods_.lods[level].index_count / 3;
+}
+
+float ClusterSelection::lod_error(uint32_t level) const {
+  return level == kWhole ? 0.0f : lods_.lods[level].error_m;
+}
+
+SelectionStats ClusterSelection::select(const SelectionView& view, ClusterTraversal traversal,
+                                        std::vector<Choice>& out) {
+  out.clear();
+  SelectionStats stats;
+  if (tree_.nodes.empty() || !view.frustum) return stats;
+  view_ = &view;
+  visited_ = 0;
+  precomputed_ = false;
+  if (traversal == ClusterTraversal::paper) classify_all();
+  if (view.max_triangles >= 0.0)
+    under_budget(out, stats);
+  else
+    by_error(out, stats);
+  stats.nodes_visited = visited_;
+  precomputed_ = false;
+  view_ = nullptr;
+  return stats;
+}
+
+void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats) {
+  const float allowed = view_->error_px * view_->pixel;  // metres of error per metre of distance
+  auto take = [&](float error_px) {
+    stats.largest_error_px = std::max(stats.largest_error_px, error_px);
+  };
+  stack_.assign(1, 0);
+  while (!stack_.empty()) {
+    const uint32_t n = stack_.back();
+    stack_.pop_back();
+    const ClusterNode& node = tree_.nodes[n];
+    const Seen seen = see_node(n);
+    if (!seen.visible) continue;
+    if (node.clustered() && seen.clusterable &&
+        projected(node.error_m, seen.distance) <= view_->error_px) {
+      out.push_back({Choice::Kind::cluster, n});
+      stats.triangles += node.triangles;
+      take(projected(node.error_m, seen.distance));
+      continue;
+    }
+    for (uint32_t k = node.objects_begin; k < node.own_end; ++k) {
+      const uint32_t object = tree_.objects[k];
+      const Seen o = see_object(object);
+      if (!o.visible) continue;
+      uint32_t level = kWhole;
+      for (uint32_t l = lods_.first_lod[object]; l < lods_.first_lod[object + 1]; ++l) {
+        if (lods_.lods[l].error_m > allowed * o.distance) break;
+        level = l;
+      }
+      out.push_back(level == kWhole ? Choice{Choice::Kind::whole, object}
+                                    : Choice{Choice::Kind::lod, level});
+      stats.triangles += object_triangles(object, level);
+      take(projected(lod_error(level), o.distance));
+    }
+    for (uint32_t c = node.child_count; c-- > 0;) stack_.push_back(node.first_child + c);
+  }
+}
+
+// The coarsest complete representation of what the frustum sees of a node: its cluster (where
+// `use_cluster` and it has one), else its visible objects at their coarsest levels and its
+// children likewise.
+uint64_t ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<Item>& into) {
+  uint64_t total = 0;
+  const size_t base = stack_.size();  // stack_ is this call's alone above `base`
+  stack_.push_back(first);
+  while (stack_.size() > base) {
+    const uint32_t n = stack_.back();
+    stack_.pop_back();
+    const ClusterNode& node = tree_.nodes[n];
+    const Seen seen = see_node(n);
+    if (!seen.visible) continue;
+    if ((use_cluster || n != first) && node.clustered() && seen.clusterable) {
+      into.push_back({n, kNone, 0, seen.distance, node.triangles, true});
+      total += node.triangles;
+      continue;
+    }
+    for (uint32_t k = node.objects_begin; k < node.own_end; ++k) {
+      const uint32_t object = tree_.objects[k];
+      const Seen o = see_object(object);
+      if (!o.visible) continue;
+      const uint32_t begin = lods_.first_lod[object], end = lods_.first_lod[object + 1];
+      const uint32_t level = end > begin ? end - 1 : kWhole;
+      const uint64_t triangles = object_triangles(object, level);
+      into.push_back({n, object, level, o.distance, triangles, true});
+      total += triangles;
+    }
+    for (uint32_t c = node.child_count; c-- > 0;) stack_.push_back(node.first_child + c);
+  }
+  return total;
+}
+
+void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& stats) {
+  const double budget = view_->max_triangles;
+  items_.clear();
+  heap_.clear();
+  stack_.clear();
+  auto key = [&](const Item& item) {
+    return item.object == kNone ? projected(tree_.nodes[item.node].error_m, item.distance)
+                                : projected(lod_error(item.level), item.distance);
+  };
+  auto refinable = [&](const Item& item) { return item.object == kNone || item.level != kWhole; };
+  auto push = [&](uint32_t id) {
+    if (!refinable(items_[id])) return;
+    heap_.push_back({key(items_[id]), id});
+    std::push_heap(heap_.begin(), heap_.end());
+  };
+  double cost = double(open(0, true, items_));
+  for (uint32_t id = 0; id < items_.size(); ++id) push(id);
+  while (!heap_.empty()) {
+    std::pop_heap(heap_.begin(), heap_.end());
+    const uint32_t id = heap_.back().second;
+    heap_.pop_back();
+    Item& item = items_[id];
+    if (item.object == kNone) {
+      opened_.clear();
+      const double more = double(open(item.node, false, opened_)) - double(item.triangles);
+      if (cost + more > budget) continue;  // a cheaper refinement may still fit
+      cost += more;
+      items_[id].live = false;
+      for (const Item& child : opened_) {
+        items_.push_back(child);
+        push(uint32_t(items_.size() - 1));
+      }
+      continue;
+    }
+    const uint32_t finer = item.level == lods_.first_lod[item.object] ? kWhole : item.level - 1;
+    const uint64_t triangles = object_triangles(item.object, finer);
+    const double more = double(triangles) - double(item.triangles);
+    if (cost + more > budget) continue;
+    cost += more;
+    item.level = finer;
+    item.triangles = triangles;
+    push(id);
+  }
+  for (const Item& item : items_) {
+    if (!item.live) continue;
+    if (item.object == kNone)
+      out.push_back({Choice::Kind::cluster, item.node});
+    else if (item.level == kWhole)
+      out.push_back({Choice::Kind::whole, item.object});
+    else
+      out.push_back({Choice::Kind::lod, item.level});
+    stats.triangles += item.triangles;
+    stats.largest_error_px = std::max(stats.largest_error_px, key(item));
+  }
+}
+
+}  // namespace farfield

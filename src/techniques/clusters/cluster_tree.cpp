@@ -1,0 +1,363 @@
+#include "farfield/techniques/clusters/cluster_tree.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+#include "farfield/core/text.hpp"
+#include "farfield/scene/simplify.hpp"
+#include "farfield/store/blob_array.hpp"
+#include "farfield/store/store.hpp"
+#include "farfield/techniques/clusters/bake_work.hpp"
+
+namespace farfield {
+
+namespace {
+
+constexpr const char* kNodes = "clusters/tree_nodes";
+constexpr const char* kObjects = "clusters/tree_objects";
+constexpr const char* kParts = "clusters/tree_parts";
+constexpr const char* kVertices = "clusters/tree_vertices";
+constexpr const char* kUvs = "clusters/tree_uvs";
+constexpr const char* kIndices = "clusters/tree_indices";
+
+// A cell being split: its cube and the objects wholly inside it.
+struct Cell {
+  Bounds3 cube;
+  std::vector<uint32_t> objects;
+  int depth = 0;
+};
+
+Bounds3 cube_around(const Bounds3& b) {
+  const glm::vec3 centre = (b.min + b.max) * 0.5f;
+  const glm::vec3 size = b.size();
+  const float half = std::max({size.x, size.y, size.z, 1e-6f}) * 0.5f;
+  return {centre - glm::vec3(half), centre + glm::vec3(half)};
+}
+
+// The octant of `cube` that wholly contains `b`, or -1 where `b` lies across its middle.
+int octant_of(const Bounds3& cube, const Bounds3& b) {
+  const glm::vec3 centre = (cube.min + cube.max) * 0.5f;
+  int octant = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (b.min[a] >= centre[a])
+      octant |= 1 << a;
+    else if (b.max[a] > centre[a])
+      return -1;
+  }
+  return octant;
+}
+
+Bounds3 octant_cube(const Bounds3& cube, int octant) {
+  const glm::vec3 centre = (cube.min + cube.max) * 0.5f;
+  Bounds3 out;
+  for (int a = 0; a < 3; ++a) {
+    const bool high = (octant >> a) & 1;
+    out.min[a] = high ? centre[a] : cube.min[a];
+    out.max[a] = high ? cube.max[a] : centre[a];
+  }
+  return out;
+}
+
+// The objects of a cell split into those across its middle and its octants' (non-empty ones);
+// a cell whose objects all fall in one octant is replaced by that octant, so that no node
+// has one child and nothing of its own.
+void split(Cell& cell, const Scene& scene, const ClusterTreeOptions& o, std::vector<uint32_t>& own,
+           std::vector<Cell>& children) {
+  for (;;) {
+    own.clear();
+    children.clear();
+    if (cell.objects.size() <= o.leaf_objects || cell.depth >= o.max_depth) {
+      own = std::move(cell.objects);
+      return;
+    }
+    Cell octants[8];
+    for (uint32_t object : cell.objects) {
+      const int k = octant_of(cell.cube, scene.objects[object].bounds);
+      (k < 0 ? own : octants[k].objects).push_back(object);
+    }
+    for (int k = 0; k < 8; ++k) {
+      if (octants[k].objects.empty()) continue;
+      octants[k].cube = octant_cube(cell.cube, k);
+      octants[k].depth = cell.depth + 1;
+      children.push_back(std::move(octants[k]));
+    }
+    if (own.empty() && children.size() == 1) {
+      cell = std::move(children[0]);
+      continue;
+    }
+    return;
+  }
+}
+
+uint64_t triangles_of(const Scene& scene, const uint32_t* begin, const uint32_t* end) {
+  uint64_t sum = 0;
+  for (const uint32_t* p = begin; p != end; ++p) sum += scene.objects[*p].index_count / 3;
+  return sum;
+}
+
+// One cluster's mesh: its objects merged per material, each part simplified to the share of
+// the target that its triangles are.
+std::vector<SimplifiedPart> cluster_mesh(const Scene& scene, std::span<const uint32_t> objects,
+                                         uint64_t target) {
+  std::vector<uint32_t> materials;
+  for (uint32_t object : objects) materials.push_back(scene.objects[object].material);
+  std::sort(materials.begin(), materials.end());
+  materials.erase(std::unique(materials.begin(), materials.end()), materials.end());
+  const uint64_t total = triangles_of(scene, objects.data(), objects.data() + objects.size());
+  const double ratio = total > 0 ? double(target) / double(total) : 0.0;
+  std::vector<SimplifiedPart> out;
+  for (uint32_t material : materials) {
+    const MeshPart part = gather_part(scene, objects, material);
+    if (part.indices.empty()) continue;
+    SimplifiedPart simplified = simplify_part(part, {.target_ratio = ratio});
+    if (!simplified.mesh.indices.empty() || simplified.error_m > 0)
+      out.push_back(std::move(simplified));
+  }
+  return out;
+}
+
+}  // namespace
+
+ClusterTree build_cluster_cells(const Scene& scene, const ClusterTreeOptions& o) {
+  ClusterTree tree;
+  const uint32_t count = uint32_t(scene.objects.size());
+  if (count == 0) return tree;
+  Bounds3 all;
+  for (const Object& object : scene.objects) all.expand(object.bounds);
+  // Breadth first, so that children are consecutive; each node's own objects kept aside.
+  std::vector<Cell> queue(1);
+  queue[0].cube = cube_around(all);
+  queue[0].objects.resize(count);
+  std::iota(queue[0].objects.begin(), queue[0].objects.end(), 0u);
+  std::vector<std::vector<uint32_t>> own;
+  std::vector<uint32_t> here;
+  std::vector<Cell> children;
+  tree.nodes.resize(1);
+  for (size_t i = 0; i < queue.size(); ++i) {
+    split(queue[i], scene, o, here, children);
+    own.push_back(here);
+    tree.nodes[i].first_child = uint32_t(tree.nodes.size());
+    tree.nodes[i].child_count = uint32_t(children.size());
+    for (Cell& child : children) {
+      queue.push_back(std::move(child));
+      tree.nodes.emplace_back();
+    }
+    queue[i].objects = {};
+  }
+  // Objects laid out depth first, so that every node's objects beneath it are one range;
+  // bounds from the leaves up (children come after their parent).
+  tree.objects.reserve(count);
+  std::vector<uint32_t> stack{0};
+  while (!stack.empty()) {
+    const uint32_t n = stack.back();
+    stack.pop_back();
+    ClusterNode& node = tree.nodes[n];
+    node.objects_begin = uint32_t(tree.objects.size());
+    tree.objects.insert(tree.objects.end(), own[n].begin(), own[n].end());
+    node.own_end = uint32_t(tree.objects.size());
+    for (uint32_t c = node.child_count; c-- > 0;) stack.push_back(node.first_child + c);
+  }
+  for (size_t n = tree.nodes.size(); n-- > 0;) {
+    ClusterNode& node = tree.nodes[n];
+    node.objects_end = node.own_end;
+    for (uint32_t k = node.objects_begin; k < node.own_end; ++k)
+      node.bounds.expand(scene.objects[tree.objects[k]].bounds);
+    for (uint32_t c = 0; c < node.child_count; ++c) {
+      const ClusterNode& child = tree.nodes[node.first_child + c];
+      node.bounds.expand(child.bounds);
+      node.objects_end = std::max(node.objects_end, child.objects_end);
+    }
+  }
+  return tree;
+}
+
+Result<ClusterTree> build_cluster_tree(const Scene& scene, const LodSet& lods,
+                                       const ClusterTreeOptions& o, Progress& progress,
+                                       Store* keep) {
+  if (o.leaf_objects < 1 || o.cluster_triangles < 1 || o.max_depth < 0)
+    return make_error("cluster hierarchy options out of range");
+  const auto start = std::chrono::steady_clock::now();
+  ClusterTree tree = build_cluster_cells(scene, o);
+  const size_t node_count = tree.nodes.size();
+  // A cluster is worth having where it costs at most half of what it stands for at its
+  // cheapest (its objects at their coarsest levels, its children as their clusters), so that
+  // refining never lowers the cost: targets from the leaves up.
+  std::vector<uint64_t> full(node_count), target(node_count, 0);
+  std::vector<uint64_t> own(node_count);       // its own objects at their coarsest
+  std::vector<uint64_t> cheapest(node_count);  // of the node's content without its cluster
+  for (size_t n = node_count; n-- > 0;) {
+    const ClusterNode& node = tree.nodes[n];
+    full[n] = triangles_of(scene, tree.objects.data() + node.objects_begin,
+                           tree.objects.data() + node.objects_end);
+    own[n] = 0;
+    for (uint32_t k = node.objects_begin; k < node.own_end; ++k) {
+      const uint32_t object = tree.objects[k];
+      const bool has_lod = lods.first_lod.size() == scene.objects.size() + 1 &&
+                           lods.first_lod[object + 1] > lods.first_lod[object];
+      own[n] += has_lod ? lods.lods[lods.first_lod[object + 1] - 1].index_count / 3
+                        : scene.objects[object].index_count / 3;
+    }
+    uint64_t sum = own[n];
+    for (uint32_t c = 0; c < node.child_count; ++c) {
+      const uint32_t child = node.first_child + c;
+      sum += target[child] > 0 ? target[child] : cheapest[child];
+    }
+    cheapest[n] = sum;
+    // Paper 001, Sec. 4.4: a cluster where more than one object lies wholly inside.
+    if (node.objects_end - node.objects_begin >= 2)
+      target[n] = std::min<uint64_t>(o.cluster_triangles, sum / 2);
+  }
+  // The largest clusters first, so that the last to finish are small.
+  std::vector<uint32_t> order(node_count);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](uint32_t l, uint32_t r) { return full[l] > full[r]; });
+  // The plan names what the meshes depend on: the scene, the cells and the targets.
+  uint64_t digest = scene_fingerprint(scene);
+  for (size_t n = 0; n < node_count; ++n)
+    digest = digest * 1099511628211ull ^ (uint64_t(tree.nodes[n].objects_end) << 32 ^ target[n]);
+  auto work = BakeWork::open(keep, "clusters",
+                             formatted("scene %016llx, %zu nodes, targets %016llx",
+                                       (unsigned long long)scene_fingerprint(scene), node_count,
+                                       (unsigned long long)digest));
+  if (!work) return work.error();
+  auto meshes = work->run("simplify clusters", "clusters", node_count, order, 8, o.threads,
+                          progress, [&](uint32_t n) -> PartList {
+                            const ClusterNode& node = tree.nodes[n];
+                            if (target[n] < 1) return {};
+                            return cluster_mesh(scene,
+                                                {tree.objects.data() + node.objects_begin,
+                                                 node.objects_end - node.objects_begin},
+                                                target[n]);
+                          });
+  if (!meshes) return meshes.error();
+
+  // The simplifier may miss its target (parts it cannot reduce): a cluster no cheaper than
+  // what it stands for (its children as they came out) is dropped, from the leaves up.
+  for (size_t n = node_count; n-- > 0;) {
+    const ClusterNode& node = tree.nodes[n];
+    uint64_t triangles = 0, expanded = own[n];
+    for (const SimplifiedPart& part : (*meshes)[n]) triangles += part.mesh.triangle_count();
+    for (uint32_t c = 0; c < node.child_count; ++c) expanded += cheapest[node.first_child + c];
+    if (triangles == 0 || triangles >= expanded) (*meshes)[n].clear();
+    cheapest[n] = (*meshes)[n].empty() ? expanded : triangles;  // now: its cheapest picture
+  }
+  const bool textured = !scene.uvs.empty();
+  for (size_t n = 0; n < node_count; ++n) {
+    ClusterNode& node = tree.nodes[n];
+    node.parts_begin = uint32_t(tree.parts.size());
+    float error = 0.0f;
+    uint64_t triangles = 0;
+    for (SimplifiedPart& part : (*meshes)[n]) {
+      const uint32_t base = uint32_t(tree.vertices.size());
+      if (uint64_t(base) + part.mesh.vertices.size() >= UINT32_MAX ||
+          tree.indices.size() + part.mesh.indices.size() >= UINT32_MAX)
+        return make_error("the scene's clusters need more than 2^32 vertices or indices");
+      error = std::max(error, part.error_m);
+      if (part.mesh.indices.empty()) continue;  // simplified away: its error stands
+      tree.parts.push_back({uint32_t(tree.indices.size()), uint32_t(part.mesh.indices.size()),
+                            part.mesh.material, 0});
+      triangles += part.mesh.triangle_count();
+      tree.vertices.insert(tree.vertices.end(), part.mesh.vertices.begin(),
+                           part.mesh.vertices.end());
+      if (textured) {
+        if (part.mesh.uvs.empty())
+          tree.uvs.resize(tree.vertices.size());
+        else
+          tree.uvs.insert(tree.uvs.end(), part.mesh.uvs.begin(), part.mesh.uvs.end());
+      }
+      for (uint32_t v : part.mesh.indices) tree.indices.push_back(base + v);
+    }
+    (*meshes)[n] = {};
+    node.parts_end = uint32_t(tree.parts.size());
+    node.triangles = uint32_t(triangles);
+    node.error_m = node.clustered() ? error : 0.0f;
+  }
+  // Errors made non-decreasing upwards (children come after their parent).
+  for (size_t n = node_count; n-- > 0;) {
+    ClusterNode& node = tree.nodes[n];
+    if (!node.clustered()) continue;
+    for (uint32_t c = 0; c < node.child_count; ++c)
+      node.error_m = std::max(node.error_m, tree.nodes[node.first_child + c].error_m);
+  }
+  tree.bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return tree;
+}
+
+Result<void> save_cluster_tree(const ClusterTree& tree, Store& store) {
+  auto transaction = store.begin();
+  if (!transaction) return transaction.error();
+  if (auto ok = store.put(kNodes, bytes_of(tree.nodes)); !ok) return ok;
+  if (auto ok = store.put(kObjects, bytes_of(tree.objects)); !ok) return ok;
+  if (auto ok = store.put(kParts, bytes_of(tree.parts)); !ok) return ok;
+  if (auto ok = store.put(kVertices, bytes_of(tree.vertices)); !ok) return ok;
+  if (auto ok = store.put(kUvs, bytes_of(tree.uvs)); !ok) return ok;
+  if (auto ok = store.put(kIndices, bytes_of(tree.indices)); !ok) return ok;
+  return transaction->commit();
+}
+
+Result<ClusterTree> load_cluster_tree(const Store& store, const Scene& scene) {
+  ClusterTree tree;
+  auto nodes = read_array<ClusterNode>(store, kNodes);
+  if (!nodes) return nodes.error();
+  auto objects = read_array<uint32_t>(store, kObjects);
+  if (!objects) return objects.error();
+  auto parts = read_array<ClusterPart>(store, kParts);
+  if (!parts) return parts.error();
+  auto vertices = read_array<Vertex>(store, kVertices);
+  if (!vertices) return vertices.error();
+  auto uvs = read_array<glm::vec2>(store, kUvs);
+  if (!uvs) return uvs.error();
+  auto indices = read_array<uint32_t>(store, kIndices);
+  if (!indices) return indices.error();
+  auto inconsistent = [&](const char* what) {
+    return make_error(store.path(), ": clusters bake is inconsistent (", what, ")");
+  };
+  if (objects->size() != scene.objects.size())
+    return inconsistent("the hierarchy does not hold every object of the scene");
+  std::vector<bool> seen(scene.objects.size(), false);
+  for (uint32_t object : *objects) {
+    if (object >= scene.objects.size() || seen[object])
+      return inconsistent("the hierarchy's objects are not each of the scene once");
+    seen[object] = true;
+  }
+  if (nodes->empty() != scene.objects.empty()) return inconsistent("no hierarchy");
+  if (!uvs->empty() && uvs->size() != vertices->size())
+    return inconsistent("texture coordinates are not one per vertex");
+  for (uint32_t i : *indices)
+    if (i >= vertices->size()) return inconsistent("an index past the vertices");
+  for (const ClusterPart& part : *parts)
+    if (part.first_index % 3 != 0 || part.index_count % 3 != 0 || part.index_count == 0 ||
+        uint64_t(part.first_index) + part.index_count > indices->size() ||
+        part.material >= scene.materials.size())
+      return inconsistent("a cluster's mesh");
+  // Children after their parent, each node the child of one: the walk from the root ends
+  // and meets every node once.
+  std::vector<uint8_t> parents(nodes->size(), 0);
+  for (size_t n = 0; n < nodes->size(); ++n) {
+    const ClusterNode& node = (*nodes)[n];
+    const bool children_ok =
+        node.child_count == 0 ||
+        (node.first_child > n && uint64_t(node.first_child) + node.child_count <= nodes->size());
+    if (!children_ok) return inconsistent("a node's children");
+    for (uint32_t c = 0; c < node.child_count; ++c)
+      if (parents[node.first_child + c]++ > 0) return inconsistent("a node of two parents");
+    if (node.objects_begin > node.own_end || node.own_end > node.objects_end ||
+        node.objects_end > objects->size())
+      return inconsistent("a node's objects");
+    if (node.parts_begin > node.parts_end || node.parts_end > parts->size())
+      return inconsistent("a node's parts");
+    if (!(node.error_m >= 0.0f)) return inconsistent("a node's error");
+  }
+  tree.nodes = std::move(*nodes);
+  tree.objects = std::move(*objects);
+  tree.parts = std::move(*parts);
+  tree.vertices = std::move(*vertices);
+  tree.uvs = std::move(*uvs);
+  tree.indices = std::move(*indices);
+  return tree;
+}
+
+}  // namespace farfield

@@ -1,0 +1,353 @@
+// The cluster hierarchy (paper 001, Sec. 4.4) and the selection over it (Sec. 4.5), without
+// GL: where objects lie, clusters' errors against measured distances, the pack, and the
+// choices by error and under a budget on a small city.
+#include "farfield/techniques/clusters/cluster_tree.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include <glm/trigonometric.hpp>
+
+#include "farfield/core/assert.hpp"
+#include "farfield/core/progress.hpp"
+#include "farfield/scene/city_generator.hpp"
+#include "farfield/scene/simplify.hpp"
+#include "farfield/store/store.hpp"
+#include "farfield/techniques/clusters/cluster_selection.hpp"
+#include "test_util.hpp"
+
+namespace farfield {
+namespace {
+
+// A city of 3 x 3 blocks (some hundred objects), made once.
+const Scene& small_city() {
+  static const Scene city = [] {
+    Progress quiet(true);
+    CityOptions o;
+    o.blocks_x = o.blocks_z = 3;
+    auto scene = generate_city(o, quiet);
+    FF_ASSERT(scene.ok(), "city");
+    return std::move(*scene);
+  }();
+  return city;
+}
+
+ClusterTreeOptions small_leaves() {
+  ClusterTreeOptions o;
+  o.leaf_objects = 6;
+  return o;
+}
+
+// The hierarchy with its meshes, and the LODs under it, made once.
+struct Baked {
+  LodSet lods;
+  ClusterTree tree;
+};
+const Baked& baked() {
+  static const Baked b = [] {
+    Progress quiet(true);
+    Baked out;
+    auto lods = build_lod_set(small_city(), {}, quiet);
+    FF_ASSERT(lods.ok(), "lods");
+    out.lods = std::move(*lods);
+    auto tree = build_cluster_tree(small_city(), out.lods, small_leaves(), quiet);
+    FF_ASSERT(tree.ok(), "tree");
+    out.tree = std::move(*tree);
+    return out;
+  }();
+  return b;
+}
+
+bool within(const Bounds3& inner, const Bounds3& outer) {
+  return glm::all(glm::greaterThanEqual(inner.min, outer.min)) &&
+         glm::all(glm::lessThanEqual(inner.max, outer.max));
+}
+
+// The node each object lies at, and each node's parent.
+std::vector<uint32_t> node_of_objects(const ClusterTree& tree, size_t objects) {
+  std::vector<uint32_t> out(objects, UINT32_MAX);
+  for (uint32_t n = 0; n < tree.nodes.size(); ++n)
+    for (uint32_t k = tree.nodes[n].objects_begin; k < tree.nodes[n].own_end; ++k)
+      out[tree.objects[k]] = n;
+  return out;
+}
+std::vector<uint32_t> parents(const ClusterTree& tree) {
+  std::vector<uint32_t> out(tree.nodes.size(), UINT32_MAX);
+  for (uint32_t n = 0; n < tree.nodes.size(); ++n)
+    for (uint32_t c = 0; c < tree.nodes[n].child_count; ++c) out[tree.nodes[n].first_child + c] = n;
+  return out;
+}
+
+// Every object at one node, inside its bounds; a node's range holds its children's; a cell is
+// split only when it holds more than leaf_objects; nodes with one child and nothing of their
+// own do not exist.
+TEST(ClusterTree, EveryObjectOnceInsideItsNode) {
+  const Scene& scene = small_city();
+  const ClusterTree tree = build_cluster_cells(scene, small_leaves());
+  ASSERT_GT(tree.nodes.size(), 8u);
+  std::vector<uint32_t> sorted = tree.objects;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<uint32_t> all(scene.objects.size());
+  std::iota(all.begin(), all.end(), 0u);
+  EXPECT_EQ(sorted, all);
+  EXPECT_EQ(tree.nodes[0].objects_begin, 0u);
+  EXPECT_EQ(tree.nodes[0].objects_end, scene.objects.size());
+  size_t inner_with_own = 0;
+  for (uint32_t n = 0; n < tree.nodes.size(); ++n) {
+    const ClusterNode& node = tree.nodes[n];
+    for (uint32_t k = node.objects_begin; k < node.own_end; ++k)
+      EXPECT_TRUE(within(scene.objects[tree.objects[k]].bounds, node.bounds));
+    if (node.leaf()) {
+      EXPECT_EQ(node.own_end, node.objects_end);
+      continue;
+    }
+    EXPECT_GT(node.objects_end - node.objects_begin, 6u);
+    EXPECT_FALSE(node.child_count == 1 && node.own_end == node.objects_begin) << n;
+    inner_with_own += node.own_end > node.objects_begin;
+    uint32_t next = node.own_end;
+    for (uint32_t c = 0; c < node.child_count; ++c) {
+      const ClusterNode& child = tree.nodes[node.first_child + c];
+      EXPECT_TRUE(within(child.bounds, node.bounds));
+      EXPECT_EQ(child.objects_begin, next);  // depth first: the children's ranges in a row
+      next = child.objects_end;
+    }
+    EXPECT_EQ(next, node.objects_end);
+  }
+  EXPECT_GT(inner_with_own, 0u);  // streets and curbs across cells stay higher up
+}
+
+// A cluster's stored error bounds the distance between its mesh and its objects both ways
+// (measured at random points) and never falls below its children's; its mesh costs less than
+// what it stands for at its cheapest (its own objects at their coarsest levels, its children
+// at theirs), so that refining never makes a frame cheaper; clusters only where two objects
+// lie inside.
+TEST(ClusterTree, ClusterErrorsBoundTheirDistanceAndGrowUpwards) {
+  const Scene& scene = small_city();
+  const Baked& b = baked();
+  const ClusterTree& tree = b.tree;
+  std::vector<uint64_t> cheapest(tree.nodes.size(), 0);
+  for (size_t n = tree.nodes.size(); n-- > 0;) {
+    const ClusterNode& node = tree.nodes[n];
+    uint64_t expanded = 0;
+    for (uint32_t k = node.objects_begin; k < node.own_end; ++k) {
+      const uint32_t o = tree.objects[k];
+      const uint32_t end = b.lods.first_lod[o + 1];
+      expanded += end > b.lods.first_lod[o] ? b.lods.lods[end - 1].index_count / 3
+                                            : scene.objects[o].index_count / 3;
+    }
+    for (uint32_t c = 0; c < node.child_count; ++c) expanded += cheapest[node.first_child + c];
+    if (node.clustered()) {
+      EXPECT_LT(node.triangles, expanded) << n;
+    }
+    cheapest[n] = node.clustered() ? node.triangles : expanded;
+  }
+  size_t clusters = 0;
+  for (uint32_t n = 0; n < tree.nodes.size(); ++n) {
+    const ClusterNode& node = tree.nodes[n];
+    if (!node.clustered()) continue;
+    ++clusters;
+    EXPECT_GE(node.objects_end - node.objects_begin, 2u);
+    EXPECT_LE(node.triangles, 2048u);
+    for (uint32_t c = 0; c < node.child_count; ++c)
+      EXPECT_GE(node.error_m, tree.nodes[node.first_child + c].error_m);
+    if (n % 5 != 0) continue;  // distances on a fifth of the clusters: enough, and fast
+    const std::span<const uint32_t> objects(tree.objects.data() + node.objects_begin,
+                                            node.objects_end - node.objects_begin);
+    for (uint32_t p = node.parts_begin; p < node.parts_end; ++p) {
+      const ClusterPart& part = tree.parts[p];
+      const MeshPart full = gather_part(scene, objects, part.material);
+      MeshPart mesh;
+      mesh.vertices = tree.vertices;
+      mesh.indices.assign(tree.indices.begin() + part.first_index,
+                          tree.indices.begin() + part.first_index + part.index_count);
+      const float slack = 1e-3f * (1.0f + node.error_m);
+      EXPECT_LE(farthest_distance(test::random_surface_points(mesh, 500, n), full),
+                node.error_m + slack);
+      EXPECT_LE(farthest_distance(test::random_surface_points(full, 500, n + 1), mesh),
+                node.error_m + slack);
+    }
+  }
+  EXPECT_GT(clusters, 4u);
+}
+
+TEST(ClusterTree, KeptInAPackAndRefusedWhenDamaged) {
+  const Scene& scene = small_city();
+  const ClusterTree& tree = baked().tree;
+  test::TempDir dir;
+  {
+    auto store = Store::open(dir.file("p.ffpack"), Store::Mode::kReadWrite);
+    ASSERT_TRUE(store);
+    ASSERT_TRUE(save_cluster_tree(tree, *store));
+  }
+  auto store = Store::open(dir.file("p.ffpack"), Store::Mode::kReadWrite);
+  ASSERT_TRUE(store);
+  auto back = load_cluster_tree(*store, scene);
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_TRUE(test::same_bytes(back->nodes, tree.nodes));
+  EXPECT_EQ(back->objects, tree.objects);
+  EXPECT_TRUE(test::same_bytes(back->parts, tree.parts));
+  EXPECT_EQ(back->indices, tree.indices);
+  EXPECT_FALSE(load_cluster_tree(*store, test::make_box_row(2)));  // another scene's
+  auto refused = [&](const char* blob, auto records, const char* why) {
+    ASSERT_TRUE(store->put(blob, std::as_bytes(std::span(records))));
+    auto damaged = load_cluster_tree(*store, scene);
+    ASSERT_FALSE(damaged) << why;
+    EXPECT_NE(damaged.error().message.find("p.ffpack"), std::string::npos);
+    EXPECT_NE(damaged.error().message.find(why), std::string::npos) << damaged.error().message;
+    ASSERT_TRUE(save_cluster_tree(tree, *store));
+  };
+  std::vector<ClusterNode> nodes = tree.nodes;
+  nodes[1].first_child = 0;  // a cycle
+  nodes[1].child_count = 1;
+  refused("clusters/tree_nodes", nodes, "children");
+  nodes = tree.nodes;
+  nodes.push_back(nodes.back());  // a second parent's children: drawn twice
+  nodes.back().first_child = nodes[0].first_child;
+  nodes.back().child_count = 1;
+  refused("clusters/tree_nodes", nodes, "children");
+  std::vector<uint32_t> objects = tree.objects;
+  objects[1] = objects[0];
+  refused("clusters/tree_objects", objects, "each of the scene once");
+  std::vector<ClusterPart> parts = tree.parts;
+  parts[0].material = uint32_t(scene.materials.size());
+  refused("clusters/tree_parts", parts, "a cluster's mesh");
+}
+
+// A view of the small city from a corner, looking in along its diagonal.
+View corner_view(float height) {
+  const Bounds3& b = small_city().bounds;
+  View v;
+  v.pose.position = glm::vec3(b.min.x - 10.0f, height, b.min.z - 10.0f);
+  v.pose.yaw_deg = 45.0f;
+  v.pose.pitch_deg = height > 50.0f ? -20.0f : 0.0f;
+  return v;
+}
+
+float pixel_of(const View& v) {
+  return 2.0f * std::tan(glm::radians(v.hfov_deg) * 0.5f) / float(v.width);
+}
+
+// Every object the frustum sees is drawn exactly once: itself (a level or whole) or by the
+// cluster of one node above it; nothing out of view is drawn on its own.
+void expect_complete(const std::vector<Choice>& choices, const Frustum& frustum) {
+  const Scene& scene = small_city();
+  const Baked& b = baked();
+  const std::vector<uint32_t> at = node_of_objects(b.tree, scene.objects.size());
+  const std::vector<uint32_t> up = parents(b.tree);
+  std::vector<int> drawn(scene.objects.size(), 0);
+  std::vector<bool> cluster_drawn(b.tree.nodes.size(), false);
+  for (const Choice& c : choices) {
+    if (c.kind == Choice::Kind::cluster)
+      cluster_drawn[c.index] = true;
+    else
+      ++drawn[c.kind == Choice::Kind::whole ? c.index : b.lods.lods[c.index].object];
+  }
+  for (uint32_t o = 0; o < scene.objects.size(); ++o) {
+    int covered = drawn[o];
+    for (uint32_t n = at[o]; n != UINT32_MAX; n = up[n]) covered += cluster_drawn[n];
+    if (frustum.classify(scene.objects[o].bounds) == Visibility::none)
+      EXPECT_EQ(drawn[o], 0) << o;
+    else
+      EXPECT_EQ(covered, 1) << "object " << o;
+  }
+}
+
+// By error: the choices cover what is seen once each, and their errors stay under the pixels
+// asked; a looser error draws fewer triangles. Both traversals choose the same, the paper's
+// looking at every node and object.
+TEST(ClusterSelection, ByErrorCompleteWithinTheErrorAndTheTraversalsAgree) {
+  const Scene& scene = small_city();
+  const Baked& b = baked();
+  ClusterSelection selection(scene, b.tree, b.lods);
+  for (float height : {2.0f, 300.0f}) {
+    const View view = corner_view(height);
+    const Frustum frustum(view);
+    uint64_t previous = UINT64_MAX;
+    for (float error_px : {0.5f, 2.0f, 8.0f, 64.0f}) {
+      SCOPED_TRACE(testing::Message() << height << " m, " << error_px << " px");
+      SelectionView sv{&frustum, view.pose.position, pixel_of(view), std::nullopt, error_px, -1.0};
+      std::vector<Choice> refined, paper;
+      const SelectionStats r = selection.select(sv, ClusterTraversal::refined, refined);
+      const SelectionStats p = selection.select(sv, ClusterTraversal::paper, paper);
+      expect_complete(refined, frustum);
+      EXPECT_LE(r.largest_error_px, error_px);
+      EXPECT_LE(r.triangles, previous);
+      previous = r.triangles;
+      ASSERT_EQ(refined.size(), paper.size());
+      for (size_t i = 0; i < refined.size(); ++i) {
+        EXPECT_EQ(refined[i].kind, paper[i].kind);
+        EXPECT_EQ(refined[i].index, paper[i].index);
+      }
+      EXPECT_EQ(p.nodes_visited, b.tree.nodes.size() + scene.objects.size());
+      EXPECT_LE(r.nodes_visited, p.nodes_visited);
+      if (error_px >= 8.0f) {
+        EXPECT_LT(r.nodes_visited, p.nodes_visited);  // clusters stop the walk early
+      }
+    }
+  }
+}
+
+// Under a budget of triangles: complete at every budget, within it wherever the coarsest
+// complete representation fits, never less accurate (largest projected error) nor cheaper
+// with a larger budget, and everything whole once the budget affords it.
+TEST(ClusterSelection, UnderABudgetCompleteWithinItAndBetterWithMore) {
+  const Scene& scene = small_city();
+  const Baked& b = baked();
+  ClusterSelection selection(scene, b.tree, b.lods);
+  const View view = corner_view(2.0f);
+  const Frustum frustum(view);
+  SelectionView sv{&frustum, view.pose.position, pixel_of(view), std::nullopt, 1.0f, 0.0};
+  std::vector<Choice> choices;
+  const uint64_t cheapest = selection.select(sv, ClusterTraversal::refined, choices).triangles;
+  expect_complete(choices, frustum);
+  ASSERT_EQ(choices.size(), 1u);  // the root's cluster
+  EXPECT_EQ(choices[0].kind, Choice::Kind::cluster);
+  float previous_error = INFINITY;
+  uint64_t previous = 0;
+  for (double budget : {1e3, 5e3, 2e4, 5e4, 1e5, 1e7}) {
+    SCOPED_TRACE(testing::Message() << budget << " triangles");
+    sv.max_triangles = budget;
+    const SelectionStats s = selection.select(sv, ClusterTraversal::refined, choices);
+    expect_complete(choices, frustum);
+    EXPECT_LE(double(s.triangles), std::max(budget, double(cheapest)));
+    EXPECT_GE(s.triangles, previous);
+    EXPECT_LE(s.largest_error_px, previous_error);
+    std::vector<Choice> paper;
+    EXPECT_EQ(selection.select(sv, ClusterTraversal::paper, paper).triangles, s.triangles);
+    previous = s.triangles;
+    previous_error = s.largest_error_px;
+  }
+  EXPECT_EQ(previous_error, 0.0f);  // 10^7 triangles: every object in view whole
+}
+
+// For a near region (composed under another technique's far field) only what meets the
+// region is drawn, and a cluster only where its node lies inside it.
+TEST(ClusterSelection, ANearRegionDrawsWhatMeetsIt) {
+  const Scene& scene = small_city();
+  const Baked& b = baked();
+  ClusterSelection selection(scene, b.tree, b.lods);
+  const View view = corner_view(300.0f);
+  const Frustum frustum(view);
+  Bounds3 region = scene.bounds;
+  region.max.x = region.min.x + 0.5f * (region.max.x - region.min.x);
+  for (float error_px : {1.0f, 1000.0f}) {
+    SelectionView sv{&frustum, view.pose.position, pixel_of(view), region, error_px, -1.0};
+    std::vector<Choice> choices;
+    selection.select(sv, ClusterTraversal::refined, choices);
+    ASSERT_FALSE(choices.empty());
+    for (const Choice& c : choices) {
+      if (c.kind == Choice::Kind::cluster)
+        EXPECT_TRUE(within(b.tree.nodes[c.index].bounds, region));
+      else
+        EXPECT_TRUE(meet(
+            scene.objects[c.kind == Choice::Kind::whole ? c.index : b.lods.lods[c.index].object]
+                .bounds,
+            region));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace farfield

@@ -1,0 +1,97 @@
+// `farfield bake --technique clusters` as a user meets it: killed with SIGKILL half-way and
+// run again, it finishes without redoing the objects it had simplified, leaves no work behind,
+// and a damaged blob stops the bench with its name.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sqlite3.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <regex>
+#include <thread>
+
+#include "farfield/store/store.hpp"
+#include "test_util.hpp"
+
+namespace farfield {
+namespace {
+
+using test::run_farfield;
+
+// Batches of simplified objects kept in the pack so far.
+size_t kept_batches(const std::string& pack) {
+  auto store = Store::open(pack, Store::Mode::kRead);
+  if (!store) return 0;
+  auto blobs = store->list("clusters/work/lods/0");
+  return blobs ? blobs->size() : 0;
+}
+
+TEST(ClustersCli, KilledBakeResumesWithoutRedoingObjects) {
+  test::TempDir dir;
+  const std::string cwd = dir.path().string();
+  ASSERT_EQ(run_farfield("generate city -q --blocks 3 --out city.ffscene", cwd).exit_status, 0);
+  const std::string pack = dir.file("city.ffpack");
+  // One thread, so that the bake is slow enough to be caught half-way.
+  const std::vector<std::string> args = {"bake",  dir.file("city.ffscene"), "-t",    "clusters",
+                                         "--set", "clusters.threads=1",     "--out", pack};
+  const pid_t child = test::spawn_farfield(args);
+  ASSERT_GT(child, 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (kept_batches(pack) < 2 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_EQ(kill(child, SIGKILL), 0);
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the bake ended before it was killed";
+  const size_t batches = kept_batches(pack);
+  ASSERT_GE(batches, 2u);
+
+  std::string rerun;
+  for (const std::string& a : args) rerun += "'" + a + "' ";
+  auto r = run_farfield(rerun);
+  ASSERT_EQ(r.exit_status, 0) << r.output;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.output, m,
+                                std::regex("clusters: ([0-9]+) of ([0-9]+) objects already kept")))
+      << r.output;
+  EXPECT_GE(std::stoull(m[1]), 64 * batches);  // batches of 64 objects; the last may be short
+  EXPECT_LT(std::stoull(m[1]), std::stoull(m[2]));
+  auto store = Store::open(pack, Store::Mode::kRead);
+  ASSERT_TRUE(store);
+  auto work = store->list("clusters/work/");
+  ASSERT_TRUE(work);
+  EXPECT_TRUE(work->empty());  // the work went once the bake was saved
+  EXPECT_TRUE(store->verify());
+  r = run_farfield("info '" + pack + "'");
+  EXPECT_NE(r.output.find("clusters bake"), std::string::npos) << r.output;
+}
+
+TEST(ClustersCli, ADamagedBlobIsNamed) {
+  test::TempDir dir;
+  const std::string cwd = dir.path().string();
+  ASSERT_EQ(run_farfield("generate city -q --blocks 1 --out city.ffscene", cwd).exit_status, 0);
+  ASSERT_EQ(
+      run_farfield("path city.ffscene --kind street --frames 4 --out street.json", cwd).exit_status,
+      0);
+  auto r = run_farfield("bake city.ffscene -t clusters -q --out p.ffpack", cwd);
+  ASSERT_EQ(r.exit_status, 0) << r.output;
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(dir.file("p.ffpack").c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db,
+                         "UPDATE blobs SET data = zeroblob(length(data)) "
+                         "WHERE name = 'clusters/tree_nodes'",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  r = run_farfield(
+      "bench city.ffscene --path street.json --store p.ffpack -t clusters "
+      "--width 128 --height 96 --no-plot -q --out broken",
+      cwd);
+  EXPECT_EQ(r.exit_status, 1);
+  EXPECT_NE(r.output.find("blob 'clusters/tree_nodes' is corrupted"), std::string::npos)
+      << r.output;
+}
+
+}  // namespace
+}  // namespace farfield
