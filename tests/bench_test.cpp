@@ -89,6 +89,53 @@ TEST(BenchGL, WritesEveryFieldAndOctreeMatchesBrute) {
   EXPECT_TRUE(std::filesystem::exists(dir.file("out/notes.txt")));
 }
 
+// Under a budget: the summary says how often frames ran over it; a technique that predicts
+// its frames (clusters' cost model) has predicted_ms from its second frame on (the first has
+// nothing measured) and the median relative error of the prediction.
+TEST(BenchGL, ReportsTheBudgetAndPredictedFrameTimes) {
+  if (auto context = gpu::create_headless_context(); !context)
+    GTEST_SKIP() << context.error().message;
+  test::TempDir dir;
+  CityOptions city_options;
+  city_options.blocks_x = city_options.blocks_z = 2;
+  Progress quiet(true);
+  auto city = generate_city(city_options, quiet);
+  ASSERT_TRUE(city);
+  PathOptions path_options;
+  path_options.frames = 10;
+  auto path = generate_path(*city, path_options);
+  ASSERT_TRUE(path);
+  BenchOptions options;
+  options.scene_file = "city.ffscene";
+  options.techniques = {"clusters"};
+  options.width = 160;
+  options.height = 120;
+  options.out_dir = dir.file("out");
+  options.warmup_frames = 0;
+  options.budget_ms = 50;
+  options.plot = false;
+  auto report = run_bench(*city, *path, options, quiet);
+  ASSERT_TRUE(report) << report.error().message;
+  const auto json = nlohmann::json::parse(test::read_file(dir.file("out/bench.json")));
+  const auto& brute = json["techniques"][0];
+  const auto& clusters = json["techniques"][1];
+  EXPECT_FALSE(brute["frames"][1].contains("predicted_ms"));
+  EXPECT_FALSE(brute["summary"].contains("predicted_median_rel_error"));
+  EXPECT_FALSE(clusters["frames"][0].contains("predicted_ms"));
+  for (size_t f = 1; f < 10; ++f) EXPECT_GT(clusters["frames"][f]["predicted_ms"], 0.0) << f;
+  EXPECT_EQ(clusters["summary"]["predicted_frames"], 9);
+  EXPECT_GE(clusters["summary"]["predicted_median_rel_error"], 0.0);
+  for (const auto& t : json["techniques"]) {
+    EXPECT_GE(t["summary"]["frames_over_budget_1_1x"], 0.0);
+    EXPECT_LE(t["summary"]["frames_over_budget_1_1x"], 1.0);
+    EXPECT_NEAR(double(t["summary"]["p99_to_budget"]), double(t["summary"]["p99_ms"]) / 50.0,
+                1e-9);
+  }
+  const std::string table = format_bench_summary(*report);
+  EXPECT_NE(table.find("over_1.1x"), std::string::npos) << table;
+  EXPECT_NE(table.find("pred_err"), std::string::npos) << table;
+}
+
 TEST(Bench, RefusesBadOptionsBeforeRendering) {
   test::TempDir dir;
   const Scene scene = test::make_box_row(2);

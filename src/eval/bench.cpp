@@ -258,6 +258,7 @@ class BenchRun {
     r.triangles = t.triangles;
     r.draw_calls = t.draw_calls;
     r.proxy_triangles = t.mesh_triangles;
+    r.predicted_ms = t.predicted_ms;
     if (compared(f)) {  // outside the timed region
       if (auto ok = compare(e, f, r, sample(f)); !ok) return ok;
       if (sample(f) && o_.birdseye_height > 0) {
@@ -361,6 +362,7 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
   report.pipelined = options.pipelined;
   report.width = options.width;
   report.height = options.height;
+  report.budget_ms = options.budget_ms;
   {
     BenchRun run(scene, path, options, store ? &*store : nullptr, *plan, **renderer, progress);
     auto records = run.run(names);

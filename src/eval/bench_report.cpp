@@ -45,7 +45,7 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
   root["techniques"] = json::array();
   const TechniqueRecord* brute = find_brute(report);
   for (const TechniqueRecord& t : report.techniques) {
-    const BenchSummary s = summarize(t, brute, options.width, options.height);
+    const BenchSummary s = summarize(t, brute, options.width, options.height, options.budget_ms);
     json frames = json::array();
     for (const FrameRecord& f : t.frames) {
       json frame = {{"frame_ms", f.frame_ms},     {"cpu_ms", f.cpu_ms},
@@ -57,6 +57,7 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
         frame["identical"] = f.differing_pixels == 0;
         frame["differing_pixels"] = f.differing_pixels;
       }
+      if (f.predicted_ms >= 0) frame["predicted_ms"] = f.predicted_ms;
       if (report.pipelined) {
         frame["pipelined_frame_ms"] = f.pipelined_frame_ms;
         frame["pipelined_latency_ms"] = f.pipelined_latency_ms;
@@ -85,6 +86,14 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
                     {"store_bytes", t.store_bytes}};
     if (s.compared_frames > s.identical_frames)
       summary["psnr_db_mean_differing"] = s.psnr_db_mean_differing;
+    if (options.budget_ms > 0) {
+      summary["frames_over_budget_1_1x"] = s.frames_over_budget_1_1x;
+      summary["p99_to_budget"] = s.p99_to_budget;
+    }
+    if (s.predicted_frames > 0) {
+      summary["predicted_frames"] = s.predicted_frames;
+      summary["predicted_median_rel_error"] = s.predicted_median_rel_error;
+    }
     if (report.pipelined && t.name != kRawBound)
       summary["pipelined"] = {{"median_ms", s.pipelined_median_ms},
                               {"p99_ms", s.pipelined_p99_ms},
@@ -124,10 +133,14 @@ std::string format_bench_summary(const BenchReport& report) {
     std::snprintf(line, sizeof(line), " %12s %12s", "pipelined_ms", "latency_ms");
     out += line;
   }
-  out += "\n";
+  if (report.budget_ms > 0) {
+    std::snprintf(line, sizeof(line), " %10s %11s", "over_1.1x", "p99/budget");
+    out += line;
+  }
+  out += " pred_err\n";
   bool fell_back = false;
   for (const TechniqueRecord& t : report.techniques) {
-    const BenchSummary s = summarize(t, brute, report.width, report.height);
+    const BenchSummary s = summarize(t, brute, report.width, report.height, report.budget_ms);
     char psnr[32] = "-";
     if (s.compared_frames > s.identical_frames)
       std::snprintf(psnr, sizeof(psnr), "%.2f", s.psnr_db_mean_differing);
@@ -150,12 +163,25 @@ std::string format_bench_summary(const BenchReport& report) {
                     s.pipelined_latency_median_ms);
       out += line;
     }
+    if (report.budget_ms > 0) {
+      std::snprintf(line, sizeof(line), " %9.1f%% %11.2f", 100.0 * s.frames_over_budget_1_1x,
+                    s.p99_to_budget);
+      out += line;
+    }
+    if (s.predicted_frames > 0) {
+      std::snprintf(line, sizeof(line), " %7.1f%%", 100.0 * s.predicted_median_rel_error);
+      out += line;
+    } else {
+      out += "        -";
+    }
     out += "\n";
   }
   out +=
       "psnr_db: mean over the compared frames that differ from brute's; identical: compared "
       "frames equal to brute's, pixel for pixel; fallback: frames a technique drew as plain "
-      "geometry (outside its bake; docs/bench.md)\n";
+      "geometry (outside its bake; docs/bench.md); over_1.1x: frames over 1.1 x the budget; "
+      "pred_err: median |predicted - measured| / measured frame time, where the technique "
+      "predicts it\n";
   if (fell_back)
     out +=
         "(most): the technique fell back on most frames, so its figures are mostly plain "

@@ -8,7 +8,7 @@
 
 namespace farfield {
 
-std::string bench_json(const BenchReport& report, const BenchOptions& options,
-                       const Scene& scene, const CameraPath& path);
+std::string bench_json(const BenchReport& report, const BenchOptions& options, const Scene& scene,
+                       const CameraPath& path);
 
 }  // namespace farfield

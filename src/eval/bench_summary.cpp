@@ -24,18 +24,22 @@ double median(std::vector<double> v) {
 }  // namespace
 
 BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute, int width,
-                       int height) {
+                       int height, double budget_ms) {
   BenchSummary s;
   // MSE of one channel of one pixel off by one: 1 / (3 w h).
   s.psnr_ceiling_db = 10.0 * std::log10(255.0 * 255.0 * 3.0 * double(width) * double(height));
   const size_t n = t.frames.size();
   if (n == 0) return s;
-  std::vector<double> ms, pipelined, latency;
+  std::vector<double> ms, pipelined, latency, prediction_error;
+  uint32_t over_budget = 0;
   double psnr_sum = 0;
   uint32_t psnr_count = 0;
   s.psnr_db_min = s.psnr_ceiling_db;
   for (const FrameRecord& f : t.frames) {
     ms.push_back(f.frame_ms);
+    over_budget += budget_ms > 0 && f.frame_ms > 1.1 * budget_ms;
+    if (f.predicted_ms >= 0 && f.frame_ms > 0)
+      prediction_error.push_back(std::abs(f.predicted_ms - f.frame_ms) / f.frame_ms);
     if (f.pipelined_frame_ms > 0) {
       pipelined.push_back(f.pipelined_frame_ms);
       latency.push_back(f.pipelined_latency_ms);
@@ -67,6 +71,12 @@ BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute, i
   s.p95_ms = percentile(ms, 95);
   s.p99_ms = percentile(ms, 99);
   s.max_ms = ms.back();
+  if (budget_ms > 0) {
+    s.frames_over_budget_1_1x = double(over_budget) / double(n);
+    s.p99_to_budget = s.p99_ms / budget_ms;
+  }
+  s.predicted_frames = uint32_t(prediction_error.size());
+  s.predicted_median_rel_error = median(prediction_error);
   if (brute && brute != &t && brute->frames.size() == n) {
     BenchSummary b = summarize(*brute, nullptr, width, height);
     s.median_ratio_to_brute = b.median_ms > 0 ? s.median_ms / b.median_ms : 0;

@@ -19,9 +19,15 @@ struct BenchSummary {
   double median_ratio_to_brute = 0;          // median(this) / median(brute)
   double triangle_ratio_to_brute = 0;        // mean triangles / brute's
   double frames_slower_than_brute_1_1x = 0;  // fraction with frame_ms > 1.1 x brute's
+  // Under a budget (0: none): the fraction of frames over 1.1 x it, and p99 / budget.
+  double frames_over_budget_1_1x = 0, p99_to_budget = 0;
+  // Frames whose technique predicted their time, and the median of |predicted - measured| /
+  // measured over them.
+  uint32_t predicted_frames = 0;
+  double predicted_median_rel_error = 0;
 };
 
 BenchSummary summarize(const TechniqueRecord& technique, const TechniqueRecord* brute, int width,
-                       int height);
+                       int height, double budget_ms = 0);
 
 }  // namespace farfield

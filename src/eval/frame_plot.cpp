@@ -8,7 +8,8 @@ namespace farfield {
 
 namespace {
 
-// Fed to Debian's `/usr/bin/python3 -` (python3-matplotlib) on stdin, so the binary needs no script installed beside it.
+// Fed to Debian's `/usr/bin/python3 -` (python3-matplotlib) on stdin, so the binary needs no script
+// installed beside it.
 constexpr const char* kScript = R"PY(
 import json, sys
 import matplotlib
@@ -46,8 +47,9 @@ Result<void> plot_frame_times(const std::string& json_path, const std::string& p
   std::fputs(kScript, pipe);
   const int status = ::pclose(pipe);
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    return make_error(png_path, ": the plot failed (python3 with matplotlib is needed: "
-                                "scripts/install-deps.sh installs python3-matplotlib)");
+    return make_error(png_path,
+                      ": the plot failed (python3 with matplotlib is needed: "
+                      "scripts/install-deps.sh installs python3-matplotlib)");
   return {};
 }
 

@@ -9,8 +9,8 @@
 namespace farfield {
 
 ImageComparison compare_images(const Image& a, const Image& b) {
-  FF_ASSERT(a.width == b.width && a.height == b.height, "sizes %dx%d and %dx%d", a.width,
-            a.height, b.width, b.height);
+  FF_ASSERT(a.width == b.width && a.height == b.height, "sizes %dx%d and %dx%d", a.width, a.height,
+            b.width, b.height);
   ImageComparison c;
   uint64_t squared = 0;
   const size_t pixels = size_t(a.width) * size_t(a.height);
@@ -32,8 +32,8 @@ ImageComparison compare_images(const Image& a, const Image& b) {
 }
 
 Image difference_image(const Image& a, const Image& b) {
-  FF_ASSERT(a.width == b.width && a.height == b.height, "sizes %dx%d and %dx%d", a.width,
-            a.height, b.width, b.height);
+  FF_ASSERT(a.width == b.width && a.height == b.height, "sizes %dx%d and %dx%d", a.width, a.height,
+            b.width, b.height);
   Image d(a.width, a.height);
   for (size_t i = 0; i < d.rgb.size(); ++i)
     d.rgb[i] = static_cast<uint8_t>(std::clamp(128 + int(b.rgb[i]) - int(a.rgb[i]), 0, 255));

@@ -50,6 +50,7 @@ struct FrameRecord {
   double psnr_db = 0;            // infinite when identical
   uint64_t differing_pixels = 0;
   double pipelined_frame_ms = 0, pipelined_latency_ms = 0;  // BenchOptions::pipelined
+  double predicted_ms = -1;  // the technique's own prediction of frame_ms; < 0: none
 };
 
 struct TechniqueRecord {
@@ -74,6 +75,7 @@ struct BenchReport {
   uint64_t scene_texture_gpu_bytes = 0;  // the scene's texture arrays, mipmaps included
   bool interleaved = false, pipelined = false;
   int width = 0, height = 0;
+  double budget_ms = 0;  // BenchOptions::budget_ms
   std::vector<TechniqueRecord> techniques;
 };
 

@@ -27,6 +27,7 @@ struct FrameTiming {
   double gpu_ms = 0;
   uint64_t triangles = 0, draw_calls = 0;
   uint64_t mesh_triangles = 0;  // of the triangles, technique meshes (stand-ins)
+  double predicted_ms = -1.0;   // DrawList::predicted_ms
 };
 
 // The budget of the next frame: the target and what the last frame measured.
@@ -51,7 +52,6 @@ class FrameLoop {
   void run_pipelined(Technique& technique, uint64_t first, uint64_t count,
                      const std::function<View(uint64_t)>& view_of, const FrameBudget& budget,
                      const std::function<void(uint64_t, const FrameTiming&)>& after);
-
 
  private:
   gpu::Renderer& renderer_;

@@ -122,6 +122,8 @@ struct DrawList {
   std::vector<TexturedQuad> backdrop;
   BackdropMode backdrop_mode = BackdropMode::far;
   std::vector<LineSegment> lines;
+  // The frame time the technique expects this list to take (its cost model), ms; < 0: none.
+  double predicted_ms = -1.0;
 
   void clear() {
     opaque.clear();
@@ -131,6 +133,7 @@ struct DrawList {
     backdrop.clear();
     backdrop_mode = BackdropMode::far;
     lines.clear();
+    predicted_ms = -1.0;
   }
   // Scene, mesh and backdrop triangles together (two per quad).
   uint64_t triangle_count() const {

@@ -22,7 +22,36 @@ bool inside(const Bounds3& box, const Bounds3& region) {
 }  // namespace
 
 ClusterSelection::ClusterSelection(const Scene& scene, const ClusterTree& tree, const LodSet& lods)
-    : scene_(scene), tree_(tree), lods_(lods) {}
+    : scene_(scene),
+      tree_(tree),
+      lods_(lods),
+      state_(tree.nodes.size(), unseen),
+      last_state_(tree.nodes.size(), unseen),
+      wanted_(tree.nodes.size(), 0) {}
+
+void ClusterSelection::set_state(uint32_t node, State state) {
+  if (state_[node] == unseen) touched_.push_back(node);
+  state_[node] = state;
+}
+
+// Nodes drawn as their cluster in one of the last two frames and refined in the other; the
+// frames' states then move on (this frame's become the last).
+uint64_t ClusterSelection::count_switches() {
+  uint64_t switches = 0;
+  auto cluster = [](uint8_t s) { return s == as_cluster || s == held; };
+  for (uint32_t n : touched_)
+    switches += (cluster(state_[n]) && last_state_[n] == refined) ||
+                (state_[n] == refined && cluster(last_state_[n]));
+  for (uint32_t n : last_touched_) last_state_[n] = unseen;
+  for (uint32_t n : touched_) {
+    last_state_[n] = state_[n];
+    if (state_[n] != held) wanted_[n] = 0;  // the wish to refine must last frames in a row
+    state_[n] = unseen;
+  }
+  last_touched_.swap(touched_);
+  touched_.clear();
+  return switches;
+}
 
 ClusterSelection::Seen ClusterSelection::see_node(uint32_t node) {
   if (precomputed_) return node_seen_[node];
@@ -82,6 +111,7 @@ SelectionStats ClusterSelection::select(const SelectionView& view, ClusterTraver
   else
     by_error(out, stats);
   stats.nodes_visited = visited_;
+  stats.switches = count_switches();
   precomputed_ = false;
   view_ = nullptr;
   return stats;
@@ -101,11 +131,13 @@ void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats)
     if (!seen.visible) continue;
     if (node.clustered() && seen.clusterable &&
         projected(node.error_m, seen.distance) <= view_->error_px) {
+      set_state(n, as_cluster);
       out.push_back({Choice::Kind::cluster, n});
       stats.triangles += node.triangles;
       take(projected(node.error_m, seen.distance));
       continue;
     }
+    if (node.clustered()) set_state(n, refined);
     for (uint32_t k = node.objects_begin; k < node.own_end; ++k) {
       const uint32_t object = tree_.objects[k];
       const Seen o = see_object(object);
@@ -182,8 +214,20 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     if (item.object == kNone) {
       opened_.clear();
       const double more = double(open(item.node, false, opened_)) - double(item.triangles);
-      if (cost + more > budget) continue;  // a cheaper refinement may still fit
+      // A refinement that does not fit is skipped (a cheaper one may still fit); one that
+      // costs nothing is always taken.
+      if (more > 0 && cost + more > budget) continue;
+      // Paper 001, Sec. 4.6: a cluster drawn last frame is refined only once wanted for more
+      // than `hysteresis` frames in a row (one not drawn last frame, just come into view or
+      // opened, at once: it cannot flicker, and a jump refines in one go).
+      if (view_->hysteresis > 0 &&
+          (last_state_[item.node] == as_cluster || last_state_[item.node] == held) &&
+          ++wanted_[item.node] <= view_->hysteresis) {
+        set_state(item.node, held);
+        continue;
+      }
       cost += more;
+      set_state(item.node, refined);
       items_[id].live = false;
       for (const Item& child : opened_) {
         items_.push_back(child);
@@ -194,7 +238,7 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     const uint32_t finer = item.level == lods_.first_lod[item.object] ? kWhole : item.level - 1;
     const uint64_t triangles = object_triangles(item.object, finer);
     const double more = double(triangles) - double(item.triangles);
-    if (cost + more > budget) continue;
+    if (more > 0 && cost + more > budget) continue;
     cost += more;
     item.level = finer;
     item.triangles = triangles;
@@ -202,9 +246,10 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
   }
   for (const Item& item : items_) {
     if (!item.live) continue;
-    if (item.object == kNone)
+    if (item.object == kNone) {
+      if (state_[item.node] != held) set_state(item.node, as_cluster);
       out.push_back({Choice::Kind::cluster, item.node});
-    else if (item.level == kWhole)
+    } else if (item.level == kWhole)
       out.push_back({Choice::Kind::whole, item.object});
     else
       out.push_back({Choice::Kind::lod, item.level});

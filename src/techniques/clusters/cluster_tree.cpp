@@ -173,41 +173,24 @@ ClusterTree build_cluster_cells(const Scene& scene, const ClusterTreeOptions& o)
   return tree;
 }
 
-Result<ClusterTree> build_cluster_tree(const Scene& scene, const LodSet& lods,
-                                       const ClusterTreeOptions& o, Progress& progress,
-                                       Store* keep) {
+Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOptions& o,
+                                       Progress& progress, Store* keep) {
   if (o.leaf_objects < 1 || o.cluster_triangles < 1 || o.max_depth < 0)
     return make_error("cluster hierarchy options out of range");
   const auto start = std::chrono::steady_clock::now();
   ClusterTree tree = build_cluster_cells(scene, o);
   const size_t node_count = tree.nodes.size();
-  // A cluster is worth having where it costs at most half of what it stands for at its
-  // cheapest (its objects at their coarsest levels, its children as their clusters), so that
-  // refining never lowers the cost: targets from the leaves up.
+  // Every cluster about the same number of triangles, as the tiles of 3D Tiles: a parent
+  // covers about four times its children's area and is drawn from twice as far, so its
+  // triangles stay as dense on screen; at most half of its objects' own.
   std::vector<uint64_t> full(node_count), target(node_count, 0);
-  std::vector<uint64_t> own(node_count);       // its own objects at their coarsest
-  std::vector<uint64_t> cheapest(node_count);  // of the node's content without its cluster
-  for (size_t n = node_count; n-- > 0;) {
+  for (size_t n = 0; n < node_count; ++n) {
     const ClusterNode& node = tree.nodes[n];
     full[n] = triangles_of(scene, tree.objects.data() + node.objects_begin,
                            tree.objects.data() + node.objects_end);
-    own[n] = 0;
-    for (uint32_t k = node.objects_begin; k < node.own_end; ++k) {
-      const uint32_t object = tree.objects[k];
-      const bool has_lod = lods.first_lod.size() == scene.objects.size() + 1 &&
-                           lods.first_lod[object + 1] > lods.first_lod[object];
-      own[n] += has_lod ? lods.lods[lods.first_lod[object + 1] - 1].index_count / 3
-                        : scene.objects[object].index_count / 3;
-    }
-    uint64_t sum = own[n];
-    for (uint32_t c = 0; c < node.child_count; ++c) {
-      const uint32_t child = node.first_child + c;
-      sum += target[child] > 0 ? target[child] : cheapest[child];
-    }
-    cheapest[n] = sum;
     // Paper 001, Sec. 4.4: a cluster where more than one object lies wholly inside.
     if (node.objects_end - node.objects_begin >= 2)
-      target[n] = std::min<uint64_t>(o.cluster_triangles, sum / 2);
+      target[n] = std::min<uint64_t>(o.cluster_triangles, full[n] / 2);
   }
   // The largest clusters first, so that the last to finish are small.
   std::vector<uint32_t> order(node_count);
@@ -234,15 +217,11 @@ Result<ClusterTree> build_cluster_tree(const Scene& scene, const LodSet& lods,
                           });
   if (!meshes) return meshes.error();
 
-  // The simplifier may miss its target (parts it cannot reduce): a cluster no cheaper than
-  // what it stands for (its children as they came out) is dropped, from the leaves up.
-  for (size_t n = node_count; n-- > 0;) {
-    const ClusterNode& node = tree.nodes[n];
-    uint64_t triangles = 0, expanded = own[n];
+  // A cluster the simplifier could not reduce below its objects' triangles is no use.
+  for (size_t n = 0; n < node_count; ++n) {
+    uint64_t triangles = 0;
     for (const SimplifiedPart& part : (*meshes)[n]) triangles += part.mesh.triangle_count();
-    for (uint32_t c = 0; c < node.child_count; ++c) expanded += cheapest[node.first_child + c];
-    if (triangles == 0 || triangles >= expanded) (*meshes)[n].clear();
-    cheapest[n] = (*meshes)[n].empty() ? expanded : triangles;  // now: its cheapest picture
+    if (triangles == 0 || triangles >= full[n]) (*meshes)[n].clear();
   }
   const bool textured = !scene.uvs.empty();
   for (size_t n = 0; n < node_count; ++n) {

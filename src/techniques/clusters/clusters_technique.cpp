@@ -48,8 +48,7 @@ constexpr SettingSpec kSettings[] = {
     {.key = "cluster_triangles",
      .type = SettingType::integer,
      .default_value = "2048",
-     .help = "most triangles of a cluster's merged mesh (at most half of what it stands for at "
-             "its cheapest)",
+     .help = "triangles of a cluster's merged mesh (at most half of its objects')",
      .min = 1,
      .max = 1e7,
      .baked = true},
@@ -59,6 +58,14 @@ constexpr SettingSpec kSettings[] = {
      .help = "refined: visit only the nodes refined and their children; paper: first look at "
              "every node and object (paper 001, Sec. 4.5.1, O(n) a frame)",
      .choices = "refined|paper"},
+    {.key = "hysteresis",
+     .type = SettingType::integer,
+     .default_value = "4",
+     .help = "under a budget, a cluster is refined into its children only once wanted for more "
+             "than this many frames in a row (paper 001, Sec. 4.6); 0: at once",
+     .unit = "frames",
+     .min = 0,
+     .max = 1000},
     {.key = "threads",
      .type = SettingType::integer,
      .default_value = "0",
@@ -88,6 +95,7 @@ const TechniqueDescriptor clusters_descriptor{
       o.tree.leaf_objects = uint32_t(v.integer("leaf_objects"));
       o.tree.cluster_triangles = uint32_t(v.integer("cluster_triangles"));
       o.tree.threads = o.lods.threads;
+      o.hysteresis = v.integer("hysteresis");
       o.traversal =
           v.text("traversal") == "paper" ? ClusterTraversal::paper : ClusterTraversal::refined;
       return std::unique_ptr<Technique>(std::make_unique<ClustersTechnique>(o));
@@ -99,8 +107,7 @@ const TechniqueDescriptor clusters_descriptor{
 Result<void> ClustersTechnique::bake(const BakeContext& context) {
   auto lods = build_lod_set(context.scene, options_.lods, context.progress, &context.store);
   if (!lods) return make_error("clusters: ", lods.error().message);
-  auto tree =
-      build_cluster_tree(context.scene, *lods, options_.tree, context.progress, &context.store);
+  auto tree = build_cluster_tree(context.scene, options_.tree, context.progress, &context.store);
   if (!tree) return make_error("clusters: ", tree.error().message);
   if (auto ok = save_lod_set(*lods, context.store); !ok) return ok;
   if (auto ok = save_cluster_tree(*tree, context.store); !ok) return ok;
@@ -128,7 +135,7 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
   }
   auto lods = build_lod_set(context.scene, options_.lods, context.progress);
   if (!lods) return make_error("clusters: ", lods.error().message);
-  auto tree = build_cluster_tree(context.scene, *lods, options_.tree, context.progress);
+  auto tree = build_cluster_tree(context.scene, options_.tree, context.progress);
   if (!tree) return make_error("clusters: ", tree.error().message);
   return use(std::move(*lods), std::move(*tree), context.scene, context.device);
 }
@@ -152,7 +159,7 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, const Scene& 
   }
   selection_ = std::make_unique<ClusterSelection>(scene, tree_, lods_);
   full_ = std::make_unique<ObjectSet>(scene);
-  frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = 0;
+  frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = switches_ = 0;
   cost_ = {};
   return {};
 }
@@ -169,15 +176,18 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   sv.pixel = 2.0f * std::tan(glm::radians(view.hfov_deg) * 0.5f) / float(view.width);
   if (input.region.kind == Region::Kind::near) sv.near_box = input.region.box;
   sv.error_px = options_.error_px;
+  sv.hysteresis = options_.hysteresis;
   // Paper 001, Sec. 4.5.2 under the budget: the triangles that the cost model fitted to the
   // frames measured so far predicts will fit, a tenth of the budget held back; before any
-  // frame was measured there is no model, and the error rule decides.
-  if (input.budget.target_ms > 0.0) {
-    cost_.observe(double(input.budget.last_triangles), input.budget.last_frame_ms);
-    if (cost_.ready()) sv.max_triangles = cost_.triangles_within(0.9 * input.budget.target_ms);
-  }
+  // frame was measured there is no model, and the error rule decides. The model learns from
+  // every frame, so that it predicts each frame's time (bench's predicted_ms) in both modes.
+  cost_.observe(double(input.budget.last_triangles), input.budget.last_frame_ms);
+  if (input.budget.target_ms > 0.0 && cost_.ready())
+    sv.max_triangles = cost_.triangles_within(0.9 * input.budget.target_ms);
   const SelectionStats stats = selection_->select(sv, options_.traversal, choices_);
   visited_ += stats.nodes_visited;
+  switches_ += stats.switches;
+  if (cost_.ready()) out.predicted_ms = cost_.predict_ms(double(stats.triangles));
   full_->clear();
   auto push = [&](uint32_t first, uint32_t count, uint32_t material, MeshHandle mesh) {
     (scene_->materials[material].transparent() ? out.transparent : out.opaque)
@@ -233,6 +243,7 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
           {"mean_objects_as_lods", mean(lods_drawn_)},
           {"mean_objects_full", mean(full_drawn_)},
           {"mean_visited", mean(visited_)},
+          {"switches", double(switches_)},
           {"cost_fixed_ms", cost_.fixed_ms()},
           {"cost_ms_per_triangle", cost_.ms_per_triangle()}};
 }

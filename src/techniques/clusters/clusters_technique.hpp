@@ -25,6 +25,7 @@ struct ClustersOptions {
   ClusterTreeOptions tree;
   float error_px = 1.0f;  // the largest projected geometric error, pixels
   ClusterTraversal traversal = ClusterTraversal::refined;
+  int hysteresis = 4;  // frames (paper 001, Sec. 4.6)
 };
 
 class ClustersTechnique final : public Technique {
@@ -52,6 +53,7 @@ class ClustersTechnique final : public Technique {
   FrameCostModel cost_;  // budget mode: fitted to measured frames
   // figures()
   uint64_t frames_ = 0, clusters_drawn_ = 0, lods_drawn_ = 0, full_drawn_ = 0, visited_ = 0;
+  uint64_t switches_ = 0;
 };
 
 }  // namespace farfield

@@ -12,6 +12,10 @@
 // from bounds stored per node; `paper` first classifies every node and object of the scene
 // (Sec. 4.5.1's first pass over all objects, O(n), which Sec. 6 names the method's limit),
 // then refines from what that pass found, so that both can be measured.
+// Temporal coherence under a budget (Sec. 4.6): a cluster drawn in the last frame is refined
+// into its children only once the walk has wanted to for more than `hysteresis` frames in a
+// row (the switch back is at once, as the paper's), so that a node on the budget's edge does
+// not flip every frame.
 #pragma once
 
 #include <cstdint>
@@ -36,6 +40,7 @@ struct SelectionView {
   std::optional<Bounds3> near_box;  // drawing for a near region only: what meets it
   float error_px = 1.0f;            // by error: the largest projected error
   double max_triangles = -1.0;      // >= 0: under this budget instead
+  int hysteresis = 0;               // under a budget: frames a refinement waits (0: none)
 };
 
 // One thing to draw: a cluster's mesh, an object's level of detail, or an object whole.
@@ -49,6 +54,8 @@ struct SelectionStats {
   uint64_t nodes_visited = 0;  // nodes whose visibility was tested
   uint64_t triangles = 0;      // of the choices
   float largest_error_px = 0;  // the coarsest choice's projected error
+  // Nodes drawn as their cluster this frame and refined the last, or the other way round.
+  uint64_t switches = 0;
 };
 
 class ClusterSelection {
@@ -89,6 +96,11 @@ class ClusterSelection {
   const Scene& scene_;
   const ClusterTree& tree_;
   const LodSet& lods_;
+  // A node's part in a frame, for temporal coherence.
+  enum State : uint8_t { unseen = 0, as_cluster, held, refined };
+  void set_state(uint32_t node, State state);
+  uint64_t count_switches();
+
   const SelectionView* view_ = nullptr;
   bool precomputed_ = false;
   uint64_t visited_ = 0;
@@ -96,6 +108,9 @@ class ClusterSelection {
   std::vector<Item> items_, opened_;
   std::vector<std::pair<float, uint32_t>> heap_;  // projected error, item
   std::vector<uint32_t> stack_;
+  std::vector<uint8_t> state_, last_state_;       // State per node, this frame and the last
+  std::vector<uint32_t> touched_, last_touched_;  // nodes whose state_ is set
+  std::vector<uint16_t> wanted_;                  // frames in a row a refinement was held
 };
 
 }  // namespace farfield

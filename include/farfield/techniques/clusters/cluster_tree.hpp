@@ -16,7 +16,6 @@
 #include "farfield/core/progress.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/scene/scene.hpp"
-#include "farfield/techniques/clusters/lod_set.hpp"
 
 namespace farfield {
 
@@ -48,7 +47,7 @@ static_assert(sizeof(ClusterPart) == 16);
 struct ClusterTreeOptions {
   uint32_t leaf_objects = 16;         // a cell with more objects wholly inside is split
   int max_depth = 16;                 // cells this deep are not split
-  uint32_t cluster_triangles = 2048;  // most triangles of a cluster's mesh
+  uint32_t cluster_triangles = 2048;  // triangles of a cluster's mesh, at most half its objects'
   int threads = 0;                    // 0: all cores
 };
 
@@ -65,13 +64,10 @@ struct ClusterTree {
 
 // The cells and the objects in them, without meshes (fast: for tests and the mesh bake).
 ClusterTree build_cluster_cells(const Scene& scene, const ClusterTreeOptions& options);
-// The cells and every cluster's mesh, each at most half the triangles of what it stands for
-// at its cheapest (its objects at their coarsest levels in `lods`, which may be empty, and
-// its children's clusters), so that refining never lowers the cost.
+// The cells and every cluster's mesh (clusters_triangles each, at most half of its objects').
 // `keep`: a pack where finished clusters are kept as the work goes (as build_lod_set's).
-Result<ClusterTree> build_cluster_tree(const Scene& scene, const LodSet& lods,
-                                       const ClusterTreeOptions& options, Progress& progress,
-                                       Store* keep = nullptr);
+Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOptions& options,
+                                       Progress& progress, Store* keep = nullptr);
 
 // Blobs under "clusters/tree_*" and back, refusing a missing or inconsistent tree (children or
 // ranges past the arrays, objects not each of `scene` once, materials not of `scene`).
