@@ -198,6 +198,49 @@ TEST(ClustersGL, FarLevelsLookLikeTheObjects) {
   EXPECT_GT(c.psnr_db, 30.0) << c.differing_pixels << " pixels differ";
 }
 
+// Coloured by representation (paper 001, Fig. D): the technique names a colour for each of
+// its sources (whole objects, levels, clusters); painted pure blue over all of them, every
+// pixel of the tree turns blue (no channel but blue), where untinted none is; dropping the
+// tints draws the tree's colours again.
+TEST(ClustersGL, TintsColourTheRepresentations) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  const Scene scene = small_tree();
+  auto renderer = gpu::Renderer::create(scene);
+  ASSERT_TRUE(renderer);
+  auto clusters = make_technique("clusters");
+  ASSERT_TRUE(test::load_technique(**clusters, scene, renderer->get()));
+  View view;
+  view.width = 128;
+  view.height = 96;
+  view.pose.position = scene.bounds.center() + glm::vec3(0.0f, 0.0f, -12.0f);
+  view.pose.yaw_deg = 90.0f;
+  (*renderer)->set_offscreen(view.width, view.height);
+  DrawList list;
+  test::select_view(**clusters, view, list);
+  ASSERT_GT(list.mesh_triangle_count(), 0u);
+  (*renderer)->draw(view, list);
+  const Image plain = (*renderer)->capture();
+  (*clusters)->tint(list);
+  ASSERT_EQ(list.tints.size(), 3u);  // the scene's buffers, the levels, the clusters
+  for (DrawList::Tint& t : list.tints) t.colour = {0.0f, 0.0f, 1.0f, 1.0f};
+  (*renderer)->draw(view, list);
+  const Image blue = (*renderer)->capture();
+  int changed = 0, pure_blue = 0;
+  for (int y = 0; y < blue.height; ++y)
+    for (int x = 0; x < blue.width; ++x) {
+      const uint8_t *p = plain.pixel(x, y), *q = blue.pixel(x, y);
+      if (p[0] == q[0] && p[1] == q[1] && p[2] == q[2]) continue;
+      ++changed;
+      pure_blue += q[0] == 0 && q[1] == 0 && q[2] > 0;
+    }
+  EXPECT_GT(changed, 100);
+  EXPECT_GT(pure_blue, changed * 9 / 10);  // edge pixels blend with the sky
+  list.tints.clear();
+  (*renderer)->draw(view, list);
+  EXPECT_TRUE(compare_images(plain, (*renderer)->capture()).identical());
+}
+
 }  // namespace
 }  // namespace farfield
 

@@ -165,7 +165,8 @@ int run_viewer(const ViewSettings& s) {
   bool playing = !path.frames.empty();
   size_t path_frame = 0;
   int frame = 0;
-  bool tab_was_down = false, p_was_down = false, b_was_down = false;
+  bool tab_was_down = false, p_was_down = false, b_was_down = false, c_was_down = false;
+  bool tinted = false;
   bool birdseye = s.birdseye_height > 0;
   const float birdseye_height = birdseye ? s.birdseye_height : kDefaultBirdseyeHeight;
   std::string notice;
@@ -183,12 +184,14 @@ int run_viewer(const ViewSettings& s) {
     if (w.key_down(GLFW_KEY_ESCAPE)) w.close();
     const bool typing = ImGui::GetIO().WantCaptureKeyboard;
     const bool tab = w.key_down(GLFW_KEY_TAB), p = w.key_down(GLFW_KEY_P),
-               b = w.key_down(GLFW_KEY_B), g = w.key_down(GLFW_KEY_G);
+               b = w.key_down(GLFW_KEY_B), g = w.key_down(GLFW_KEY_G), c = w.key_down(GLFW_KEY_C);
     const size_t before = current;
     if (tab && !tab_was_down && !typing) current = (current + 1) % techniques.size();
     if (p && !p_was_down && !typing && !path.frames.empty()) playing = !playing;
     if (b && !b_was_down && !typing) birdseye = !birdseye;
     if (g && !g_was_down && !typing) walking = !walking;
+    if (c && !c_was_down && !typing) tinted = !tinted;
+    c_was_down = c;
     g_was_down = g;
     tab_was_down = tab;
     p_was_down = p;
@@ -224,7 +227,7 @@ int run_viewer(const ViewSettings& s) {
     }
     // paper 000, Fig. 5-2: in the bird's-eye view the same selection from above.
     stats = loop.run(*techniques[current], view, uint64_t(frame), next_budget(budget_ms, stats),
-                     birdseye ? birdseye_height : 0.0f);
+                     birdseye ? birdseye_height : 0.0f, tinted);
     if (std::string failure = techniques[current]->failure(); !failure.empty()) {
       exit_status = fail(failure);
       break;
@@ -264,13 +267,17 @@ int run_viewer(const ViewSettings& s) {
                   counted(fallback, "frame").c_str());
     if (const std::string built = shown.describe(); !built.empty())
       ImGui::TextWrapped("%s", built.c_str());
+    ImGui::Checkbox("colour by representation (C)", &tinted);
+    // The technique's own figures as they run (clusters: switches, clusters drawn, ...).
+    if (ImGui::CollapsingHeader("figures"))
+      for (const auto& [key, value] : shown.figures()) ImGui::Text("%s %.6g", key.c_str(), value);
     if (!path.frames.empty())
       ImGui::Text("path %s: frame %zu of %zu (P: %s)", path.kind.c_str(), path_frame,
                   path.frames.size(), playing ? "pause" : "play");
     if (!notice.empty()) ImGui::TextWrapped("%s", notice.c_str());
     ImGui::TextDisabled(
         "W/S move  A/D turn  E/Q up/down  R/F look  Shift fast  Tab/1-9 technique"
-        "  B bird's-eye%s  G %s",
+        "  B bird's-eye%s  C colour  G %s",
         birdseye ? " (on)" : "", walking ? "fly (walking now)" : "walk (flying now)");
     ImGui::End();
     ImGui::Render();

@@ -33,12 +33,13 @@ FrameBudget next_budget(double target_ms, const FrameTiming& last) {
 }
 
 FrameTiming FrameLoop::run(Technique& technique, const View& view, uint64_t frame,
-                           const FrameBudget& budget, float birdseye_height) {
+                           const FrameBudget& budget, float birdseye_height, bool tinted) {
   FrameTiming t;
   const auto start = Clock::now();
   list_.clear();
   technique.select({view, frame, Region::everything(), budget}, list_);
   t.select_ms = ms_between(start, Clock::now());
+  if (tinted || birdseye_height > 0.0f) technique.tint(list_);
   gpu::FrameStats stats;
   if (birdseye_height > 0.0f) {
     technique.annotate(view, list_);
@@ -68,7 +69,10 @@ FrameTiming FrameLoop::run_raw(const View& view) {
 }
 
 void FrameLoop::draw_birdseye(Technique* technique, const View& eye, float height) {
-  if (technique) technique->annotate(eye, list_);
+  if (technique) {
+    technique->annotate(eye, list_);
+    technique->tint(list_);
+  }
   add_frustum_lines(eye, height * 0.5f, list_);
   const View above = birdseye_view(eye, height);
   if (technique)

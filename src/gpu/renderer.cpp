@@ -92,6 +92,7 @@ struct Renderer::State {
     GLuint vao;
     size_t first_command, count;
     Drawing drawing;
+    uint32_t mesh = 0;  // 0: the scene's own buffers
   };
   std::vector<SceneBatch> opaque_batches, transparent_batches;
   bool culling_off = false;       // drawing the transparent pass, which draws both sides anyway
@@ -217,7 +218,7 @@ struct Renderer::State {
               white_material);
     const Drawing drawing = drawings[r.material];
     if (batches.empty() || batches.back().vao != mesh.vao || batches.back().drawing != drawing)
-      batches.push_back({mesh.vao, commands.size(), 0, drawing});
+      batches.push_back({mesh.vao, commands.size(), 0, drawing, r.mesh.id});
     commands.push_back({r.index_count, 1, r.first_index, 0, r.material});
     batches.back().count++;
   }
@@ -242,8 +243,18 @@ struct Renderer::State {
                   2);
   }
 
-  void draw_scene_batches(const std::vector<SceneBatch>& batches) {
+  void draw_scene_batches(const std::vector<SceneBatch>& batches,
+                          const std::vector<DrawList::Tint>& tints) {
+    glm::vec4 current(0.0f);
     for (const SceneBatch& b : batches) {
+      glm::vec4 tint(0.0f);
+      for (const DrawList::Tint& t : tints)
+        if (t.mesh == b.mesh) tint = t.colour;
+      if (tint != current) {
+        for (GLuint p : {program, textured_scene_program})
+          if (p) glProgramUniform4fv(p, 7, 1, &tint.x);
+        current = tint;
+      }
       glBindVertexArray(b.vao);
       const int array = b.drawing.array;
       if (array >= 0) {  // the textured program samples this batch's array on unit 0
@@ -257,6 +268,11 @@ struct Renderer::State {
           0);
       if (b.drawing.double_sided && !culling_off) glEnable(GL_CULL_FACE);
       if (array >= 0) glUseProgram(program);
+    }
+    if (current != glm::vec4(0.0f)) {
+      const glm::vec4 none(0.0f);
+      for (GLuint p : {program, textured_scene_program})
+        if (p) glProgramUniform4fv(p, 7, 1, &none.x);
     }
     glBindVertexArray(vao);
   }
@@ -610,7 +626,7 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
 
   s.begin_frame(view_projection, width, height);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, s.indirect_buffer);
-  s.draw_scene_batches(s.opaque_batches);
+  s.draw_scene_batches(s.opaque_batches, list.tints);
   uint64_t calls = scene_commands + s.draw_meshes(view_projection, list);
   // The backdrop behind everything opaque, under the transparent surfaces.
   s.draw_backdrop(view_projection, list);
@@ -623,7 +639,7 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
     glDepthMask(GL_FALSE);
     glDisable(GL_CULL_FACE);
     s.culling_off = true;
-    s.draw_scene_batches(s.transparent_batches);
+    s.draw_scene_batches(s.transparent_batches, list.tints);
     s.culling_off = false;
     glDepthMask(GL_TRUE);
     glEnable(GL_CULL_FACE);

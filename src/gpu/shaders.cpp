@@ -31,6 +31,7 @@ constexpr const char* kFragmentShader = R"(#version 450 core
 layout(location = 1) uniform vec3 light_dir[2];
 layout(location = 3) uniform float light_weight;
 layout(location = 4) uniform float ambient;
+layout(location = 7) uniform vec4 tint;  // DrawList::tints: a colour mixed in, alpha its share
 in vec3 v_normal;
 in vec4 v_color;
 layout(location = 0) out vec4 frag_color;
@@ -38,7 +39,8 @@ void main() {
   vec3 n = normalize(gl_FrontFacing ? v_normal : -v_normal);
   float light = ambient + light_weight * (max(dot(n, light_dir[0]), 0.0) +
                                           max(dot(n, light_dir[1]), 0.0));
-  frag_color = vec4(min(v_color.rgb * light, vec3(1.0)), v_color.a);
+  vec3 base = mix(v_color.rgb, tint.rgb, tint.a);
+  frag_color = vec4(min(base * light, vec3(1.0)), v_color.a);
 }
 )";
 
@@ -78,6 +80,7 @@ layout(location = 1) uniform vec3 light_dir[2];
 layout(location = 3) uniform float light_weight;
 layout(location = 4) uniform float ambient;
 layout(binding = 0) uniform sampler2DArray textures;  // the batch's array
+layout(location = 7) uniform vec4 tint;
 in vec3 v_normal;
 in vec4 v_color;
 in vec2 v_texcoord;
@@ -108,6 +111,7 @@ void main() {
   vec3 n = normalize(gl_FrontFacing ? v_normal : -v_normal);
   float light = ambient + light_weight * (max(dot(n, light_dir[0]), 0.0) +
                                           max(dot(n, light_dir[1]), 0.0));
+  c.rgb = mix(c.rgb, tint.rgb, tint.a);
   frag_color = vec4(min(c.rgb * light, vec3(1.0)), c.a);
 }
 )";

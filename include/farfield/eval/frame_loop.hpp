@@ -38,12 +38,14 @@ class FrameLoop {
   explicit FrameLoop(gpu::Renderer& renderer) : renderer_(renderer) {}
 
   // One frame of `technique` at `view`; with a bird's-eye height the selection is drawn from
-  // that far above the eye, annotated (paper 000, Fig. 5-2), instead of from the eye.
+  // that far above the eye, annotated and tinted (paper 000, Fig. 5-2), instead of from the
+  // eye; `tinted`: coloured by representation from the eye too (Technique::tint).
   FrameTiming run(Technique& technique, const View& view, uint64_t frame, const FrameBudget& budget,
-                  float birdseye_height = 0.0f);
+                  float birdseye_height = 0.0f, bool tinted = false);
   // The raw bound: every triangle in one draw.
   FrameTiming run_raw(const View& view);
-  // The last frame's selection seen from above, annotated (after run() of the same view).
+  // The last frame's selection seen from above, annotated and tinted (after run() of the same
+  // view).
   void draw_birdseye(Technique* technique, const View& eye, float height);
 
   // Frames `first` .. `first + count - 1` pipelined; `view_of(f)` gives each view and

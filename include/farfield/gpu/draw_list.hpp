@@ -15,6 +15,7 @@
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 namespace farfield {
 
@@ -124,6 +125,13 @@ struct DrawList {
   std::vector<LineSegment> lines;
   // The frame time the technique expects this list to take (its cost model), ms; < 0: none.
   double predicted_ms = -1.0;
+  // Scene geometry coloured by where it comes from (paper 001, Fig. D: by representation):
+  // the ranges of a mesh (id 0: the scene's own buffers) take this colour, alpha its share.
+  struct Tint {
+    uint32_t mesh;
+    glm::vec4 colour;
+  };
+  std::vector<Tint> tints;
 
   void clear() {
     opaque.clear();
@@ -134,6 +142,7 @@ struct DrawList {
     backdrop_mode = BackdropMode::far;
     lines.clear();
     predicted_ms = -1.0;
+    tints.clear();
   }
   // Scene, mesh and backdrop triangles together (two per quad).
   uint64_t triangle_count() const {

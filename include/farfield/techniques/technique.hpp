@@ -108,6 +108,10 @@ class Technique {
   // Bird's-eye pictures (paper 000, Fig. 5-2): called after select() for `eye` with its list,
   // adds the technique's own marks (its viewcell, ...) and places stand-ins where they are.
   virtual void annotate(const View& /*eye*/, DrawList& /*list*/) const {}
+  // Colours the list's scene geometry by representation (DrawList::tints; paper 001, Fig. D,
+  // right), for bird's-eye pictures and the view's colouring; techniques with one kind of
+  // geometry leave it.
+  virtual void tint(DrawList& /*list*/) const {}
   // The first error met while running (a damaged blob found by a background load); empty if
   // none. select() has no error channel: callers check this and stop.
   virtual std::string failure() const { return {}; }

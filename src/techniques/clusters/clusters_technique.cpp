@@ -219,6 +219,12 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   full_->emit(out);  // the whole objects, in scene order
 }
 
+void ClustersTechnique::tint(DrawList& list) const {
+  list.tints.push_back({0, {0.75f, 0.75f, 0.75f, 0.85f}});
+  if (lod_mesh_) list.tints.push_back({lod_mesh_.id, {0.15f, 0.75f, 0.2f, 0.85f}});
+  if (cluster_mesh_) list.tints.push_back({cluster_mesh_.id, {0.95f, 0.45f, 0.1f, 0.85f}});
+}
+
 std::string ClustersTechnique::describe() const {
   size_t clusters = 0;
   for (const ClusterNode& node : tree_.nodes) clusters += node.clustered();

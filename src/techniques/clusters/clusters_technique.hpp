@@ -37,6 +37,8 @@ class ClustersTechnique final : public Technique {
   void select(const FrameInput& input, DrawList& out) override;
   std::string describe() const override;
   std::vector<std::pair<std::string, double>> figures() const override;
+  // Whole objects grey, levels of detail green, clusters orange.
+  void tint(DrawList& list) const override;
 
  private:
   Result<void> use(LodSet lods, ClusterTree tree, const Scene& scene, gpu::Device& device);
