@@ -309,16 +309,19 @@ TEST(ClusterSelection, UnderABudgetCompleteWithinItAndBetterWithMore) {
 
 // Temporal coherence (paper 001, Sec. 4.6): a budget that swings every frame between two
 // values flips clusters into their children and back every frame without hysteresis, never
-// with it; the first frame (a jump: nothing drawn before) refines at once, as without.
+// with the paper's rule, under half as often with the default one (only flips wait); the first
+// frame (a jump: nothing drawn before) refines at once, as without.
 TEST(ClusterSelection, HysteresisHoldsRefinementsBackForFramesInARow) {
   const Scene& scene = small_city();
   const Baked& b = baked();
   const View view = corner_view(2.0f);
   const Frustum frustum(view);
-  auto play = [&](int hysteresis, const std::vector<double>& budgets, uint64_t* switches) {
+  auto play = [&](int hysteresis, const std::vector<double>& budgets, uint64_t* switches,
+                  HysteresisRule rule = HysteresisRule::paper) {
     ClusterSelection selection(scene, b.tree, b.lods);
     SelectionView sv{&frustum, view.pose.position, pixel_of(view), std::nullopt, 1.0f, 0.0};
     sv.hysteresis = hysteresis;
+    sv.hysteresis_rule = rule;
     std::vector<std::vector<Choice>> frames;
     *switches = 0;
     for (double budget : budgets) {
@@ -336,6 +339,11 @@ TEST(ClusterSelection, HysteresisHoldsRefinementsBackForFramesInARow) {
   EXPECT_GE(without, 10u);
   EXPECT_EQ(with, 0u);
   for (const auto& frame : held) EXPECT_EQ(frame.size(), held[0].size());
+  // The default rule lets a first refinement through and holds the flip back for 3 frames.
+  uint64_t flips = 0;
+  play(3, swinging, &flips, HysteresisRule::flips);
+  EXPECT_GT(flips, 0u);
+  EXPECT_LE(2 * flips, without);
 
   const std::vector<double> steady(4, 2e4);
   uint64_t s0 = 0, s3 = 0;

@@ -55,6 +55,34 @@ TEST(LodSet, ChainsHaveFewerTrianglesAndGrowingErrors) {
   EXPECT_FALSE(build_lod_set(scene, bad, quiet));
 }
 
+// Laid out level by level in another order of the objects, every level keeps its triangles,
+// and the objects' levels of one rank follow each other in that order.
+TEST(LodSet, OrderedByLevelKeepsEveryLevelsTriangles) {
+  const Scene scene = small_tree();
+  Progress quiet(true);
+  auto set = build_lod_set(scene, {}, quiet);
+  ASSERT_TRUE(set);
+  LodSet ordered = *set;
+  std::vector<uint32_t> order(scene.objects.size());
+  for (uint32_t i = 0; i < order.size(); ++i) order[i] = uint32_t(order.size()) - 1 - i;
+  order_lods_by_level(ordered, order);
+  ASSERT_EQ(ordered.indices.size(), set->indices.size());
+  for (size_t k = 0; k < set->lods.size(); ++k) {
+    const Lod &a = set->lods[k], &b = ordered.lods[k];
+    ASSERT_EQ(a.index_count, b.index_count);
+    EXPECT_TRUE(std::equal(set->indices.begin() + a.first_index,
+                           set->indices.begin() + a.first_index + a.index_count,
+                           ordered.indices.begin() + b.first_index));
+  }
+  uint32_t expected = 0;  // the finest levels first, in `order`
+  for (uint32_t object : order) {
+    if (ordered.first_lod[object] == ordered.first_lod[object + 1]) continue;
+    const Lod& finest = ordered.lods[ordered.first_lod[object]];
+    EXPECT_EQ(finest.first_index, expected);
+    expected += finest.index_count;
+  }
+}
+
 TEST(LodSet, KeptInAPackAndRefusedWhenDamaged) {
   const Scene scene = small_tree();
   Progress quiet(true);
@@ -255,19 +283,43 @@ TEST(FrameCostModel, FitsAFixedPartAndAPartPerTriangle) {
   EXPECT_EQ(model.triangles_within(10.0), 0.0);
   for (int i = 0; i < 40; ++i) {
     const double triangles = 10000.0 + 5000.0 * (i % 5);
-    model.observe(triangles, 5.0 + 0.001 * triangles);
+    model.observe(triangles, 100.0, 5.0 + 0.001 * triangles);
   }
   EXPECT_NEAR(model.fixed_ms(), 5.0, 1e-6);
   EXPECT_NEAR(model.ms_per_triangle(), 0.001, 1e-9);
+  EXPECT_EQ(model.ms_per_draw(), 0.0);  // the draws never changed: nothing known of them
   EXPECT_NEAR(model.triangles_within(25.0), 20000.0, 1e-3);
   EXPECT_EQ(model.triangles_within(4.0), 0.0);  // the fixed part alone is over
   FrameCostModel steady;
-  for (int i = 0; i < 10; ++i) steady.observe(20000.0, 25.0);
+  for (int i = 0; i < 10; ++i) steady.observe(20000.0, 50.0, 25.0);
   EXPECT_EQ(steady.fixed_ms(), 0.0);
   EXPECT_NEAR(steady.ms_per_triangle(), 25.0 / 20000.0, 1e-12);
-  EXPECT_NEAR(steady.predict_ms(20000.0), 25.0, 1e-9);
-  steady.observe(0.0, 3.0);  // nothing drawn says nothing: ignored
+  EXPECT_NEAR(steady.predict_ms(20000.0, 50.0), 25.0, 1e-9);
+  steady.observe(0.0, 50.0, 3.0);  // nothing drawn says nothing: ignored
   EXPECT_NEAR(steady.ms_per_triangle(), 25.0 / 20000.0, 1e-12);
+}
+
+// Frames whose triangles and draws vary apart give all three parts; the budget then counts
+// a draw as the triangles it costs as much as.
+TEST(FrameCostModel, FitsAPartPerDrawWhereDrawsVaryOnTheirOwn) {
+  FrameCostModel model;
+  for (int i = 0; i < 60; ++i) {
+    const double triangles = 10000.0 + 5000.0 * (i % 5), draws = 100.0 + 40.0 * (i % 7);
+    model.observe(triangles, draws, 5.0 + 0.001 * triangles + 0.02 * draws);
+  }
+  EXPECT_NEAR(model.fixed_ms(), 5.0, 1e-6);
+  EXPECT_NEAR(model.ms_per_triangle(), 0.001, 1e-9);
+  EXPECT_NEAR(model.ms_per_draw(), 0.02, 1e-9);
+  EXPECT_NEAR(model.triangles_per_draw(), 20.0, 1e-6);
+  EXPECT_NEAR(model.predict_ms(20000.0, 200.0), 29.0, 1e-6);
+  // Triangles and draws in step: their parts cannot be told apart, the triangles take all.
+  FrameCostModel together;
+  for (int i = 0; i < 40; ++i) {
+    const double triangles = 10000.0 + 5000.0 * (i % 5);
+    together.observe(triangles, triangles / 100.0, 5.0 + 0.002 * triangles);
+  }
+  EXPECT_EQ(together.ms_per_draw(), 0.0);
+  EXPECT_NEAR(together.ms_per_triangle(), 0.002, 1e-9);
 }
 
 }  // namespace

@@ -29,7 +29,7 @@ void fill(FrameTiming& t, const gpu::FrameStats& stats, const DrawList& list) {
 }  // namespace
 
 FrameBudget next_budget(double target_ms, const FrameTiming& last) {
-  return {target_ms, last.frame_ms, last.select_ms, last.triangles};
+  return {target_ms, last.frame_ms, last.select_ms, last.triangles, last.draw_calls};
 }
 
 FrameTiming FrameLoop::run(Technique& technique, const View& view, uint64_t frame,

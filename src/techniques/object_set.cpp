@@ -8,7 +8,9 @@ namespace farfield {
 ObjectSet::ObjectSet(const Scene& scene)
     : scene_(scene), words_((scene.objects.size() + 63) / 64, 0) {}
 
-void ObjectSet::clear() { std::fill(words_.begin(), words_.end(), 0); }
+void ObjectSet::clear() {
+  std::fill(words_.begin(), words_.end(), 0);
+}
 
 void ObjectSet::insert_all() {
   std::fill(words_.begin(), words_.end(), ~uint64_t(0));
@@ -22,7 +24,7 @@ void ObjectSet::emit(DrawList& out) const {
       const uint32_t index = static_cast<uint32_t>(w * 64 + std::countr_zero(bits));
       const Object& o = scene_.objects[index];
       auto& ranges = scene_.materials[o.material].transparent() ? out.transparent : out.opaque;
-      if (!ranges.empty() && ranges.back().material == o.material &&
+      if (!ranges.empty() && !ranges.back().mesh && ranges.back().material == o.material &&
           ranges.back().first_index + ranges.back().index_count == o.first_index) {
         ranges.back().index_count += o.index_count;
       } else {

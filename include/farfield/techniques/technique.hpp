@@ -52,6 +52,7 @@ struct FrameBudget {
   double last_frame_ms = 0.0;
   double last_select_ms = 0.0;
   uint64_t last_triangles = 0;
+  uint64_t last_draw_calls = 0;
 };
 
 struct FrameInput {

@@ -27,7 +27,8 @@ ClusterSelection::ClusterSelection(const Scene& scene, const ClusterTree& tree, 
       lods_(lods),
       state_(tree.nodes.size(), unseen),
       last_state_(tree.nodes.size(), unseen),
-      wanted_(tree.nodes.size(), 0) {}
+      wanted_(tree.nodes.size(), 0),
+      coarsened_at_(tree.nodes.size(), 0) {}
 
 void ClusterSelection::set_state(uint32_t node, State state) {
   if (state_[node] == unseen) touched_.push_back(node);
@@ -39,9 +40,14 @@ void ClusterSelection::set_state(uint32_t node, State state) {
 uint64_t ClusterSelection::count_switches() {
   uint64_t switches = 0;
   auto cluster = [](uint8_t s) { return s == as_cluster || s == held; };
-  for (uint32_t n : touched_)
-    switches += (cluster(state_[n]) && last_state_[n] == refined) ||
-                (state_[n] == refined && cluster(last_state_[n]));
+  ++frame_;
+  for (uint32_t n : touched_) {
+    const bool coarsened = cluster(state_[n]) && last_state_[n] == refined;
+    if (coarsened) coarsened_at_[n] = frame_;
+    switches += coarsened || (state_[n] == refined && cluster(last_state_[n]));
+  }
+  for (uint32_t n : last_touched_)
+    if (last_state_[n] == refined && state_[n] == unseen) coarsened_at_[n] = 0;  // left view
   for (uint32_t n : last_touched_) last_state_[n] = unseen;
   for (uint32_t n : touched_) {
     last_state_[n] = state_[n];
@@ -158,9 +164,10 @@ void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats)
 
 // The coarsest complete representation of what the frustum sees of a node: its cluster (where
 // `use_cluster` and it has one), else its visible objects at their coarsest levels and its
-// children likewise.
-uint64_t ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<Item>& into) {
-  uint64_t total = 0;
+// children likewise; returns its cost (triangles, each draw counted as triangles_per_draw).
+double ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<Item>& into) {
+  const double per_draw = view_->triangles_per_draw;
+  double total = 0;
   const size_t base = stack_.size();  // stack_ is this call's alone above `base`
   stack_.push_back(first);
   while (stack_.size() > base) {
@@ -170,8 +177,9 @@ uint64_t ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<It
     const Seen seen = see_node(n);
     if (!seen.visible) continue;
     if ((use_cluster || n != first) && node.clustered() && seen.clusterable) {
-      into.push_back({n, kNone, 0, seen.distance, node.triangles, true});
-      total += node.triangles;
+      const double cost = node.triangles + per_draw * double(node.parts_end - node.parts_begin);
+      into.push_back({n, kNone, 0, seen.distance, node.triangles, cost, true});
+      total += cost;
       continue;
     }
     for (uint32_t k = node.objects_begin; k < node.own_end; ++k) {
@@ -181,8 +189,8 @@ uint64_t ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<It
       const uint32_t begin = lods_.first_lod[object], end = lods_.first_lod[object + 1];
       const uint32_t level = end > begin ? end - 1 : kWhole;
       const uint64_t triangles = object_triangles(object, level);
-      into.push_back({n, object, level, o.distance, triangles, true});
-      total += triangles;
+      into.push_back({n, object, level, o.distance, triangles, triangles + per_draw, true});
+      total += triangles + per_draw;
     }
     for (uint32_t c = node.child_count; c-- > 0;) stack_.push_back(node.first_child + c);
   }
@@ -204,7 +212,7 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     heap_.push_back({key(items_[id]), id});
     std::push_heap(heap_.begin(), heap_.end());
   };
-  double cost = double(open(0, true, items_));
+  double cost = open(0, true, items_);
   for (uint32_t id = 0; id < items_.size(); ++id) push(id);
   while (!heap_.empty()) {
     std::pop_heap(heap_.begin(), heap_.end());
@@ -213,16 +221,24 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     Item& item = items_[id];
     if (item.object == kNone) {
       opened_.clear();
-      const double more = double(open(item.node, false, opened_)) - double(item.triangles);
+      const double more = open(item.node, false, opened_) - item.cost;
       // A refinement that does not fit is skipped (a cheaper one may still fit); one that
       // costs nothing is always taken.
       if (more > 0 && cost + more > budget) continue;
-      // Paper 001, Sec. 4.6: a cluster drawn last frame is refined only once wanted for more
-      // than `hysteresis` frames in a row (one not drawn last frame, just come into view or
-      // opened, at once: it cannot flicker, and a jump refines in one go).
-      if (view_->hysteresis > 0 &&
-          (last_state_[item.node] == as_cluster || last_state_[item.node] == held) &&
-          ++wanted_[item.node] <= view_->hysteresis) {
+      // Temporal coherence (paper 001, Sec. 4.6), by one of two rules:
+      //  - paper: a cluster drawn last frame is refined only once wanted for more than
+      //    `hysteresis` frames in a row (one not drawn last frame, just come into view or
+      //    opened, at once: it cannot flicker, and a jump refines in one go);
+      //  - flips (default): only a cluster that went back from its children within the last
+      //    `hysteresis` frames waits: a first refinement is at once, a flip-flop is not.
+      const bool waits =
+          view_->hysteresis > 0 &&
+          (view_->hysteresis_rule == HysteresisRule::paper
+               ? (last_state_[item.node] == as_cluster || last_state_[item.node] == held) &&
+                     ++wanted_[item.node] <= view_->hysteresis
+               : coarsened_at_[item.node] != 0 &&
+                     frame_ - coarsened_at_[item.node] < uint64_t(view_->hysteresis));
+      if (waits) {
         set_state(item.node, held);
         continue;
       }
@@ -237,11 +253,12 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     }
     const uint32_t finer = item.level == lods_.first_lod[item.object] ? kWhole : item.level - 1;
     const uint64_t triangles = object_triangles(item.object, finer);
-    const double more = double(triangles) - double(item.triangles);
+    const double more = double(triangles) - double(item.triangles);  // the same one draw
     if (more > 0 && cost + more > budget) continue;
     cost += more;
     item.level = finer;
     item.triangles = triangles;
+    item.cost += more;
     push(id);
   }
   for (const Item& item : items_) {

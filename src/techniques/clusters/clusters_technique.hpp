@@ -26,6 +26,7 @@ struct ClustersOptions {
   float error_px = 1.0f;  // the largest projected geometric error, pixels
   ClusterTraversal traversal = ClusterTraversal::refined;
   int hysteresis = 4;  // frames (paper 001, Sec. 4.6)
+  HysteresisRule hysteresis_rule = HysteresisRule::flips;
 };
 
 class ClustersTechnique final : public Technique {

@@ -92,6 +92,26 @@ Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progres
   return set;
 }
 
+void order_lods_by_level(LodSet& set, std::span<const uint32_t> order) {
+  std::vector<uint32_t> indices;
+  indices.reserve(set.indices.size());
+  for (uint32_t level = 0;; ++level) {
+    bool any = false;
+    for (uint32_t object : order) {
+      const uint32_t k = set.first_lod[object] + level;
+      if (k >= set.first_lod[object + 1]) continue;
+      any = true;
+      Lod& lod = set.lods[k];
+      const uint32_t first = uint32_t(indices.size());
+      indices.insert(indices.end(), set.indices.begin() + lod.first_index,
+                     set.indices.begin() + lod.first_index + lod.index_count);
+      lod.first_index = first;
+    }
+    if (!any) break;
+  }
+  set.indices = std::move(indices);
+}
+
 Result<void> save_lod_set(const LodSet& set, Store& store) {
   auto transaction = store.begin();
   if (!transaction) return transaction.error();

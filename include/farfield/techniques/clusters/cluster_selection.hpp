@@ -3,7 +3,8 @@
 //  - by error (no budget): from the root down, a cluster wherever its geometric error projects
 //    below `error_px` pixels, else its objects (each as the coarsest level of detail under
 //    that error, or whole) and its children;
-//  - under a budget of triangles (the frame-time budget through the cost model): the paper's
+//  - under a budget of triangles (the frame-time budget through the cost model, each draw
+//    counted as the triangles it costs as much as): the paper's
 //    best-first refinement (Sec. 4.5.2): a complete coarsest representation of what the
 //    frustum sees first (the root's cluster), then the representation whose error covers
 //    the most pixels refined (a cluster into its objects and children, an object one level
@@ -12,10 +13,12 @@
 // from bounds stored per node; `paper` first classifies every node and object of the scene
 // (Sec. 4.5.1's first pass over all objects, O(n), which Sec. 6 names the method's limit),
 // then refines from what that pass found, so that both can be measured.
-// Temporal coherence under a budget (Sec. 4.6): a cluster drawn in the last frame is refined
-// into its children only once the walk has wanted to for more than `hysteresis` frames in a
-// row (the switch back is at once, as the paper's), so that a node on the budget's edge does
-// not flip every frame.
+// Temporal coherence under a budget (Sec. 4.6), so that a node on the budget's edge does not
+// flip every frame: the paper's rule refines a cluster drawn in the last frame into its
+// children only once the walk has wanted to for more than `hysteresis` frames in a row; the
+// default rule delays only a cluster that went back from its children within the last
+// `hysteresis` frames (the paper's delays every refinement, and a walk that keeps meeting
+// new nodes leaves budget unspent). The switch back is at once in both, as the paper's.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +35,7 @@
 namespace farfield {
 
 enum class ClusterTraversal { refined, paper };
+enum class HysteresisRule { flips, paper };
 
 struct SelectionView {
   const Frustum* frustum = nullptr;
@@ -40,7 +44,9 @@ struct SelectionView {
   std::optional<Bounds3> near_box;  // drawing for a near region only: what meets it
   float error_px = 1.0f;            // by error: the largest projected error
   double max_triangles = -1.0;      // >= 0: under this budget instead
+  double triangles_per_draw = 0.0;  // what a draw costs, counted in triangles, under a budget
   int hysteresis = 0;               // under a budget: frames a refinement waits (0: none)
+  HysteresisRule hysteresis_rule = HysteresisRule::flips;
 };
 
 // One thing to draw: a cluster's mesh, an object's level of detail, or an object whole.
@@ -75,6 +81,7 @@ class ClusterSelection {
     uint32_t node, object, level;
     float distance;
     uint64_t triangles;
+    double cost;  // triangles and draws (SelectionView::triangles_per_draw)
     bool live;
   };
   struct Seen {
@@ -91,7 +98,7 @@ class ClusterSelection {
   void by_error(std::vector<Choice>& out, SelectionStats& stats);
   void under_budget(std::vector<Choice>& out, SelectionStats& stats);
   // The coarsest complete representation of a node's visible content, appended to `into`.
-  uint64_t open(uint32_t node, bool use_cluster, std::vector<Item>& into);
+  double open(uint32_t node, bool use_cluster, std::vector<Item>& into);
 
   const Scene& scene_;
   const ClusterTree& tree_;
@@ -111,6 +118,8 @@ class ClusterSelection {
   std::vector<uint8_t> state_, last_state_;       // State per node, this frame and the last
   std::vector<uint32_t> touched_, last_touched_;  // nodes whose state_ is set
   std::vector<uint16_t> wanted_;                  // frames in a row a refinement was held
+  std::vector<uint64_t> coarsened_at_;  // the frame a node went back from its children, or 0
+  uint64_t frame_ = 0;
 };
 
 }  // namespace farfield

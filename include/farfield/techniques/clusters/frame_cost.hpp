@@ -1,27 +1,38 @@
 // What a frame costs, learnt from the frames measured so far (paper 001, Sec. 5.2 measures
 // each representation's cost offline; this is the run-time half): frame time = a fixed part +
-// a part per triangle, fitted by exponentially weighted least squares over the last frames'
-// (triangles, milliseconds), so that the model follows the machine and the path. Where the
-// frames measured do not vary enough in triangles to tell the two parts apart, the whole time
-// is charged to the triangles (no fixed part): exact at the count measured, and the changes a
-// budget makes to the count then tell the parts apart.
+// a part per triangle + a part per draw, fitted by exponentially weighted least squares over
+// the last frames' (triangles, draws, milliseconds), so that the model follows the machine
+// and the path. On llvmpipe a draw costs as much as a few hundred triangles, so a budget
+// counted in triangles alone buys too many small draws. Where the frames measured do not
+// vary enough to tell the parts apart (triangles and draws within 10%, or moving together),
+// the draws are left out, and where triangles do not vary either the whole time is charged
+// to the triangles (no fixed part): exact at the count measured, and the changes a budget
+// makes to the counts then tell the parts apart.
 #pragma once
 
 namespace farfield {
 
 class FrameCostModel {
  public:
-  void observe(double triangles, double ms);
+  void observe(double triangles, double draws, double ms);
   bool ready() const { return weight_ > 0.0; }
-  double fixed_ms() const;
-  double ms_per_triangle() const;
-  double predict_ms(double triangles) const { return fixed_ms() + ms_per_triangle() * triangles; }
-  // The most triangles predicted to fit in `ms` (0 when the fixed part alone exceeds it).
+  double fixed_ms() const { return fit().fixed; }
+  double ms_per_triangle() const { return fit().per_triangle; }
+  double ms_per_draw() const { return fit().per_draw; }
+  double predict_ms(double triangles, double draws) const;
+  // The most triangles predicted to fit in `ms` when each draw is counted as
+  // triangles_per_draw() triangles (0 when the fixed part alone exceeds it).
   double triangles_within(double ms) const;
+  double triangles_per_draw() const;
 
  private:
+  struct Fit {
+    double fixed = 0, per_triangle = 0, per_draw = 0;
+  };
+  Fit fit() const;
   static constexpr double kKeep = 0.9;  // each frame's weight against the previous ones'
-  double weight_ = 0, x_ = 0, y_ = 0, xx_ = 0, xy_ = 0;  // weighted sums
+  // Weighted sums of t (triangles), d (draws), y (ms) and their products.
+  double weight_ = 0, t_ = 0, d_ = 0, y_ = 0, tt_ = 0, td_ = 0, dd_ = 0, ty_ = 0, dy_ = 0;
 };
 
 }  // namespace farfield

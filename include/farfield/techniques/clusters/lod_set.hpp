@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -46,6 +47,11 @@ struct LodSet {
 // run again redoes only the rest (bake_work.hpp); null: nothing kept.
 Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& options, Progress& progress,
                              Store* keep = nullptr);
+
+// The levels' triangles laid out level by level, the objects of each level in `order` (the
+// hierarchy's), so that neighbouring objects drawn at the same level are one range of
+// indices: one draw, where a draw costs as much as hundreds of triangles on llvmpipe.
+void order_lods_by_level(LodSet& set, std::span<const uint32_t> order);
 
 // Blobs under "clusters/lod*" (replacing a set there) and back, refusing a missing or
 // inconsistent one (ranges past the arrays, objects not of `scene`).
