@@ -289,7 +289,9 @@ TEST(FrameCostModel, FitsAFixedPartAndAPartPerTriangle) {
   EXPECT_NEAR(model.ms_per_triangle(), 0.001, 1e-9);
   EXPECT_EQ(model.ms_per_draw(), 0.0);  // the draws never changed: nothing known of them
   EXPECT_NEAR(model.triangles_within(25.0), 20000.0, 1e-3);
-  EXPECT_EQ(model.triangles_within(4.0), 0.0);  // the fixed part alone is over
+  // The fixed part alone is over: the mean time per triangle instead (frames of 10k to 30k
+  // triangles at 15 to 35 ms: 1.25 ms per thousand), not nothing.
+  EXPECT_NEAR(model.triangles_within(4.0), 4.0 / (25.0 / 20000.0), 200.0);
   FrameCostModel steady;
   for (int i = 0; i < 10; ++i) steady.observe(20000.0, 50.0, 25.0);
   EXPECT_EQ(steady.fixed_ms(), 0.0);

@@ -223,8 +223,9 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
       opened_.clear();
       const double more = open(item.node, false, opened_) - item.cost;
       // A refinement that does not fit is skipped (a cheaper one may still fit); one that
-      // costs nothing is always taken.
-      if (more > 0 && cost + more > budget) continue;
+      // costs nothing is always taken, and so is a cluster the eye is inside, whose coarse
+      // mesh would wrap the view (a frame of 7 dB on the 10M city's street where it was not).
+      if (more > 0 && cost + more > budget && item.distance > 0.0f) continue;
       // Temporal coherence (paper 001, Sec. 4.6), by one of two rules:
       //  - paper: a cluster drawn last frame is refined only once wanted for more than
       //    `hysteresis` frames in a row (one not drawn last frame, just come into view or

@@ -56,7 +56,12 @@ double FrameCostModel::triangles_per_draw() const {
 double FrameCostModel::triangles_within(double ms) const {
   const Fit f = fit();
   if (!(f.per_triangle > 0.0)) return 0.0;
-  return std::max(0.0, (ms - f.fixed) / f.per_triangle);
+  // A fixed part at or over the budget would ask for nothing, and frames of nothing then
+  // teach the model nothing (the "fixed" part is mostly the fill of the screen, which a frame
+  // of one coarse cluster does not pay): the mean time per triangle of the frames measured
+  // instead, which asks for what took that long.
+  if (ms <= f.fixed) return ms / (y_ / t_);
+  return (ms - f.fixed) / f.per_triangle;
 }
 
 }  // namespace farfield

@@ -21,7 +21,8 @@ class FrameCostModel {
   double ms_per_draw() const { return fit().per_draw; }
   double predict_ms(double triangles, double draws) const;
   // The most triangles predicted to fit in `ms` when each draw is counted as
-  // triangles_per_draw() triangles (0 when the fixed part alone exceeds it).
+  // triangles_per_draw() triangles; where the fixed part alone exceeds `ms`, what fits at the
+  // mean time per triangle of the frames measured.
   double triangles_within(double ms) const;
   double triangles_per_draw() const;
 
