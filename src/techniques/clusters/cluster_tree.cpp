@@ -10,6 +10,7 @@
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/clusters/bake_work.hpp"
+#include "farfield/techniques/clusters/mesh_arrays.hpp"
 
 namespace farfield {
 
@@ -303,10 +304,8 @@ Result<ClusterTree> load_cluster_tree(const Store& store, const Scene& scene) {
     seen[object] = true;
   }
   if (nodes->empty() != scene.objects.empty()) return inconsistent("no hierarchy");
-  if (!uvs->empty() && uvs->size() != vertices->size())
-    return inconsistent("texture coordinates are not one per vertex");
-  for (uint32_t i : *indices)
-    if (i >= vertices->size()) return inconsistent("an index past the vertices");
+  if (const char* problem = mesh_arrays_problem(vertices->size(), uvs->size(), *indices))
+    return inconsistent(problem);
   for (const ClusterPart& part : *parts)
     if (part.first_index % 3 != 0 || part.index_count % 3 != 0 || part.index_count == 0 ||
         uint64_t(part.first_index) + part.index_count > indices->size() ||

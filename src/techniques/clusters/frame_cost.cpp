@@ -17,9 +17,10 @@ void FrameCostModel::observe(double triangles, double draws, double ms) {
   add(dd_, draws * draws);
   add(ty_, triangles * ms);
   add(dy_, draws * ms);
+  fit_ = solve();
 }
 
-FrameCostModel::Fit FrameCostModel::fit() const {
+FrameCostModel::Fit FrameCostModel::solve() const {
   Fit f;
   if (!ready()) return f;
   const double mt = t_ / weight_, md = d_ / weight_, my = y_ / weight_;
@@ -44,17 +45,17 @@ FrameCostModel::Fit FrameCostModel::fit() const {
 }
 
 double FrameCostModel::predict_ms(double triangles, double draws) const {
-  const Fit f = fit();
+  const Fit& f = fit_;
   return f.fixed + f.per_triangle * triangles + f.per_draw * draws;
 }
 
 double FrameCostModel::triangles_per_draw() const {
-  const Fit f = fit();
+  const Fit& f = fit_;
   return f.per_triangle > 0.0 ? f.per_draw / f.per_triangle : 0.0;
 }
 
 double FrameCostModel::triangles_within(double ms) const {
-  const Fit f = fit();
+  const Fit& f = fit_;
   if (!(f.per_triangle > 0.0)) return 0.0;
   // A fixed part at or over the budget would ask for nothing, and frames of nothing then
   // teach the model nothing (the "fixed" part is mostly the fill of the screen, which a frame

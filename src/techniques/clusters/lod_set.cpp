@@ -10,6 +10,7 @@
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/clusters/bake_work.hpp"
+#include "farfield/techniques/clusters/mesh_arrays.hpp"
 
 namespace farfield {
 
@@ -136,10 +137,8 @@ Result<LodSet> load_lod_set(const Store& store, const Scene& scene) {
   auto inconsistent = [&](const char* what) {
     return make_error(store.path(), ": clusters bake is inconsistent (", what, ")");
   };
-  if (!uvs->empty() && uvs->size() != vertices->size())
-    return inconsistent("texture coordinates are not one per vertex");
-  for (uint32_t i : *indices)
-    if (i >= vertices->size()) return inconsistent("an index past the vertices");
+  if (const char* problem = mesh_arrays_problem(vertices->size(), uvs->size(), *indices))
+    return inconsistent(problem);
   set.first_lod.assign(scene.objects.size() + 1, 0);
   for (size_t k = 0; k < lods->size(); ++k) {
     const Lod& l = (*lods)[k];
