@@ -14,20 +14,22 @@
 namespace farfield {
 namespace {
 
-TEST(OctreeGL, FramesEqualBruteOnRandomCityViews) {
+// Draws random views of a small city with brute and with `octree` made with `settings`:
+// every frame must be identical; returns the share of brute's triangles the octree drew.
+double octree_against_brute(std::initializer_list<const char*> settings) {
   auto context = gpu::create_headless_context();
-  if (!context) GTEST_SKIP() << context.error().message;
+  if (!context) return -1.0;
   CityOptions options;
   options.blocks_x = options.blocks_z = 3;
   Progress quiet(true);
   auto city = generate_city(options, quiet);
-  ASSERT_TRUE(city) << city.error().message;
+  EXPECT_TRUE(city) << city.error().message;
   auto renderer = gpu::Renderer::create(*city);
-  ASSERT_TRUE(renderer) << renderer.error().message;
+  EXPECT_TRUE(renderer) << renderer.error().message;
   auto brute = make_technique("brute");
-  auto octree = make_technique("octree");
-  ASSERT_TRUE(test::load_technique(**brute, *city, renderer->get()));
-  ASSERT_TRUE(test::load_technique(**octree, *city, renderer->get()));
+  auto octree = make_technique("octree", test::settings_of(settings));
+  EXPECT_TRUE(test::load_technique(**brute, *city, renderer->get()));
+  EXPECT_TRUE(test::load_technique(**octree, *city, renderer->get()));
 
   const Bounds3 b = city->bounds;
   std::mt19937 rng(2024);
@@ -58,8 +60,22 @@ TEST(OctreeGL, FramesEqualBruteOnRandomCityViews) {
     culled_triangles += culled.triangle_count();
     all_triangles += all.triangle_count();
   }
+  return double(culled_triangles) / double(all_triangles);
+}
+
+TEST(OctreeGL, FramesEqualBruteOnRandomCityViews) {
+  const double share = octree_against_brute({});
+  if (share < 0) GTEST_SKIP() << "no GL context";
   // The views are not trivially everything: culling removed a good share.
-  EXPECT_LT(double(culled_triangles), 0.8 * double(all_triangles));
+  EXPECT_LT(share, 0.8);
+}
+
+TEST(OctreeGL, OcclusionKeepsTheFramesOfBrute) {
+  const double frustum_only = octree_against_brute({});
+  if (frustum_only < 0) GTEST_SKIP() << "no GL context";
+  const double occluded = octree_against_brute({"octree.occlusion=1"});
+  // Occluders hid something that the frustum let through.
+  EXPECT_LT(occluded, 0.95 * frustum_only);
 }
 
 }  // namespace

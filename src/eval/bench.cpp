@@ -259,6 +259,7 @@ class BenchRun {
     r.draw_calls = t.draw_calls;
     r.proxy_triangles = t.mesh_triangles;
     r.predicted_ms = t.predicted_ms;
+    r.occlusion_ms = t.occlusion_ms;
     if (compared(f)) {  // outside the timed region
       if (auto ok = compare(e, f, r, sample(f)); !ok) return ok;
       if (sample(f) && o_.birdseye_height > 0) {

@@ -58,6 +58,7 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
         frame["differing_pixels"] = f.differing_pixels;
       }
       if (f.predicted_ms >= 0) frame["predicted_ms"] = f.predicted_ms;
+      if (f.occlusion_ms >= 0) frame["occlusion_ms"] = f.occlusion_ms;
       if (report.pipelined) {
         frame["pipelined_frame_ms"] = f.pipelined_frame_ms;
         frame["pipelined_latency_ms"] = f.pipelined_latency_ms;
@@ -90,6 +91,7 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
       summary["frames_over_budget_1_1x"] = s.frames_over_budget_1_1x;
       summary["p99_to_budget"] = s.p99_to_budget;
     }
+    if (s.occlusion_frames > 0) summary["occlusion_ms_median"] = s.occlusion_ms_median;
     if (s.predicted_frames > 0) {
       summary["predicted_frames"] = s.predicted_frames;
       summary["predicted_median_rel_error"] = s.predicted_median_rel_error;

@@ -30,7 +30,7 @@ BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute, i
   s.psnr_ceiling_db = 10.0 * std::log10(255.0 * 255.0 * 3.0 * double(width) * double(height));
   const size_t n = t.frames.size();
   if (n == 0) return s;
-  std::vector<double> ms, pipelined, latency, prediction_error;
+  std::vector<double> ms, pipelined, latency, prediction_error, occlusion;
   uint32_t over_budget = 0;
   double psnr_sum = 0;
   uint32_t psnr_count = 0;
@@ -40,6 +40,7 @@ BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute, i
     over_budget += budget_ms > 0 && f.frame_ms > 1.1 * budget_ms;
     if (f.predicted_ms >= 0 && f.frame_ms > 0)
       prediction_error.push_back(std::abs(f.predicted_ms - f.frame_ms) / f.frame_ms);
+    if (f.occlusion_ms >= 0) occlusion.push_back(f.occlusion_ms);
     if (f.pipelined_frame_ms > 0) {
       pipelined.push_back(f.pipelined_frame_ms);
       latency.push_back(f.pipelined_latency_ms);
@@ -77,6 +78,8 @@ BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute, i
   }
   s.predicted_frames = uint32_t(prediction_error.size());
   s.predicted_median_rel_error = median(prediction_error);
+  s.occlusion_frames = uint32_t(occlusion.size());
+  s.occlusion_ms_median = median(occlusion);
   if (brute && brute != &t && brute->frames.size() == n) {
     BenchSummary b = summarize(*brute, nullptr, width, height);
     s.median_ratio_to_brute = b.median_ms > 0 ? s.median_ms / b.median_ms : 0;

@@ -25,6 +25,9 @@ struct BenchSummary {
   // measured over them.
   uint32_t predicted_frames = 0;
   double predicted_median_rel_error = 0;
+  // Frames that culled by occlusion, and the median CPU time it took them.
+  uint32_t occlusion_frames = 0;
+  double occlusion_ms_median = 0;
 };
 
 BenchSummary summarize(const TechniqueRecord& technique, const TechniqueRecord* brute, int width,

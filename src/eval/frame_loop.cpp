@@ -24,6 +24,7 @@ void fill(FrameTiming& t, const gpu::FrameStats& stats, const DrawList& list) {
   t.draw_calls = stats.draw_calls;
   t.mesh_triangles = list.mesh_triangle_count();
   t.predicted_ms = list.predicted_ms;
+  t.occlusion_ms = list.occlusion_ms;
 }
 
 }  // namespace

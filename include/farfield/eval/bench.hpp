@@ -51,6 +51,7 @@ struct FrameRecord {
   uint64_t differing_pixels = 0;
   double pipelined_frame_ms = 0, pipelined_latency_ms = 0;  // BenchOptions::pipelined
   double predicted_ms = -1;  // the technique's own prediction of frame_ms; < 0: none
+  double occlusion_ms = -1;  // of cpu_ms, occlusion culling; < 0: none
 };
 
 struct TechniqueRecord {

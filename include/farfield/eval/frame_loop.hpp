@@ -28,6 +28,7 @@ struct FrameTiming {
   uint64_t triangles = 0, draw_calls = 0;
   uint64_t mesh_triangles = 0;  // of the triangles, technique meshes (stand-ins)
   double predicted_ms = -1.0;   // DrawList::predicted_ms
+  double occlusion_ms = -1.0;   // DrawList::occlusion_ms (part of select_ms)
 };
 
 // The budget of the next frame: the target and what the last frame measured.

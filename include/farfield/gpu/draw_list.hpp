@@ -125,6 +125,8 @@ struct DrawList {
   std::vector<LineSegment> lines;
   // The frame time the technique expects this list to take (its cost model), ms; < 0: none.
   double predicted_ms = -1.0;
+  // CPU time of the frame's occlusion culling (spatial/occlusion_map.hpp), ms; < 0: none.
+  double occlusion_ms = -1.0;
   // Scene geometry coloured by where it comes from (paper 001, Fig. D: by representation):
   // the ranges of a mesh (id 0: the scene's own buffers) take this colour, alpha its share.
   struct Tint {
@@ -142,6 +144,7 @@ struct DrawList {
     backdrop_mode = BackdropMode::far;
     lines.clear();
     predicted_ms = -1.0;
+    occlusion_ms = -1.0;
     tints.clear();
   }
   // Scene, mesh and backdrop triangles together (two per quad).

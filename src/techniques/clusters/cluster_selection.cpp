@@ -64,8 +64,9 @@ ClusterSelection::Seen ClusterSelection::see_node(uint32_t node) {
   ++visited_;
   const Bounds3& box = tree_.nodes[node].bounds;
   const std::optional<Bounds3>& near = view_->near_box;
-  const bool visible =
-      view_->frustum->classify(box) != Visibility::none && (!near || meet(box, *near));
+  const bool visible = view_->frustum->classify(box) != Visibility::none &&
+                       (!near || meet(box, *near)) &&
+                       !(view_->occlusion && view_->occlusion->hidden(box));
   return {visible, !near || inside(box, *near), visible ? distance_to(box, view_->eye) : 0.0f};
 }
 
@@ -74,8 +75,9 @@ ClusterSelection::Seen ClusterSelection::see_object(uint32_t object) {
   ++visited_;
   const Bounds3& box = scene_.objects[object].bounds;
   const std::optional<Bounds3>& near = view_->near_box;
-  const bool visible =
-      view_->frustum->classify(box) != Visibility::none && (!near || meet(box, *near));
+  const bool visible = view_->frustum->classify(box) != Visibility::none &&
+                       (!near || meet(box, *near)) &&
+                       !(view_->occlusion && view_->occlusion->hidden(box));
   return {visible, true, visible ? distance_to(box, view_->eye) : 0.0f};
 }
 

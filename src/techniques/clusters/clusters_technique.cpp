@@ -1,6 +1,7 @@
 #include "clusters_technique.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -73,6 +74,11 @@ constexpr SettingSpec kSettings[] = {
              "clusters.hysteresis frames waits; paper: every refinement of a cluster drawn last "
              "frame waits (paper 001, Sec. 4.6)",
      .choices = "flips|paper"},
+    {.key = "occlusion",
+     .type = SettingType::flag,
+     .default_value = "1",
+     .help = "skip what boxes inside the nearest opaque objects hide (spatial/occluders.hpp, "
+             "checked on the CPU each frame)"},
     {.key = "threads",
      .type = SettingType::integer,
      .default_value = "0",
@@ -103,6 +109,7 @@ const TechniqueDescriptor clusters_descriptor{
       o.tree.cluster_triangles = uint32_t(v.integer("cluster_triangles"));
       o.tree.threads = o.lods.threads;
       o.hysteresis = v.integer("hysteresis");
+      o.occlusion = v.flag("occlusion");
       o.hysteresis_rule =
           v.text("hysteresis_rule") == "paper" ? HysteresisRule::paper : HysteresisRule::flips;
       o.traversal =
@@ -154,6 +161,8 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, const Scene& 
   lods_ = std::move(lods);
   tree_ = std::move(tree);
   scene_ = &scene;
+  clusters_ = size_t(std::count_if(tree_.nodes.begin(), tree_.nodes.end(),
+                                   [](const ClusterNode& n) { return n.clustered(); }));
   if (tree_.objects.size() == scene.objects.size()) order_lods_by_level(lods_, tree_.objects);
   resources_.bind(device);
   lod_mesh_ = cluster_mesh_ = {};
@@ -169,6 +178,7 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, const Scene& 
   }
   selection_ = std::make_unique<ClusterSelection>(scene, tree_, lods_);
   full_ = std::make_unique<ObjectSet>(scene);
+  occluders_ = options_.occlusion ? std::make_unique<Occluders>(scene) : nullptr;
   frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = switches_ = 0;
   cost_ = {};
   return {};
@@ -188,6 +198,13 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   sv.error_px = options_.error_px;
   sv.hysteresis = options_.hysteresis;
   sv.hysteresis_rule = options_.hysteresis_rule;
+  if (occluders_) {
+    const auto start = std::chrono::steady_clock::now();
+    occluders_->fill(occlusion_, view, frustum);
+    out.occlusion_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    sv.occlusion = &occlusion_;
+  }
   // Paper 001, Sec. 4.5.2 under the budget: the triangles that the cost model fitted to the
   // frames measured so far predicts will fit, a tenth of the budget held back; before any
   // frame was measured there is no model, and the error rule decides. The model learns from
@@ -197,10 +214,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   if (input.budget.target_ms > 0.0 && cost_.ready()) {
     sv.max_triangles = cost_.triangles_within(0.9 * input.budget.target_ms);
     sv.triangles_per_draw = cost_.triangles_per_draw();
-    // A budget that holds its frames steady would leave the model nothing to tell its fixed
-    // part from its part per triangle (it would charge everything to the triangles and buy
-    // too few): every third frame asks for a quarter fewer, below the budget, never above.
-    if (frames_ % 3 == 0) sv.max_triangles *= 0.75;
+    sv.max_triangles *= FrameCostModel::probe_share(frames_);
   }
   const SelectionStats stats = selection_->select(sv, options_.traversal, choices_);
   visited_ += stats.nodes_visited;
@@ -252,24 +266,20 @@ void ClustersTechnique::tint(DrawList& list) const {
 }
 
 std::string ClustersTechnique::describe() const {
-  size_t clusters = 0;
-  for (const ClusterNode& node : tree_.nodes) clusters += node.clustered();
   return formatted(
       "%zu levels of detail for %zu objects (%llu triangles), %zu nodes of which %zu clusters "
       "(%llu triangles)",
       lods_.lods.size(), lods_.first_lod.empty() ? size_t(0) : lods_.first_lod.size() - 1,
-      (unsigned long long)(lods_.indices.size() / 3), tree_.nodes.size(), clusters,
+      (unsigned long long)(lods_.indices.size() / 3), tree_.nodes.size(), clusters_,
       (unsigned long long)tree_.triangle_count());
 }
 
 std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
   auto mean = [&](uint64_t sum) { return frames_ ? double(sum) / double(frames_) : 0.0; };
-  size_t clusters = 0;
-  for (const ClusterNode& node : tree_.nodes) clusters += node.clustered();
   return {{"lods", double(lods_.lods.size())},
           {"lod_triangles", double(lods_.indices.size() / 3)},
           {"nodes", double(tree_.nodes.size())},
-          {"clusters", double(clusters)},
+          {"clusters", double(clusters_)},
           {"cluster_triangles", double(tree_.triangle_count())},
           {"mean_clusters_drawn", mean(clusters_drawn_)},
           {"mean_objects_as_lods", mean(lods_drawn_)},

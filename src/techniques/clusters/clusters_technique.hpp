@@ -9,6 +9,8 @@
 #include <memory>
 
 #include "farfield/core/frustum.hpp"
+#include "farfield/spatial/occluders.hpp"
+#include "farfield/spatial/occlusion_map.hpp"
 #include "farfield/techniques/clusters/cluster_selection.hpp"
 #include "farfield/techniques/clusters/cluster_tree.hpp"
 #include "farfield/techniques/clusters/frame_cost.hpp"
@@ -27,6 +29,7 @@ struct ClustersOptions {
   ClusterTraversal traversal = ClusterTraversal::refined;
   int hysteresis = 4;  // frames (paper 001, Sec. 4.6)
   HysteresisRule hysteresis_rule = HysteresisRule::flips;
+  bool occlusion = true;  // cull with boxes inside the nearest opaque objects
 };
 
 class ClustersTechnique final : public Technique {
@@ -48,11 +51,14 @@ class ClustersTechnique final : public Technique {
   const Scene* scene_ = nullptr;
   LodSet lods_;
   ClusterTree tree_;
+  size_t clusters_ = 0;  // nodes of tree_ with a cluster
   gpu::OwnedResources resources_;
   MeshHandle lod_mesh_, cluster_mesh_;  // lods_ and tree_'s clusters as scene meshes
   std::unique_ptr<ClusterSelection> selection_;
   std::unique_ptr<ObjectSet> full_;  // this frame's objects drawn whole
   std::vector<Choice> choices_;
+  std::unique_ptr<Occluders> occluders_;  // null: clusters.occlusion=0
+  OcclusionMap occlusion_;
   FrameCostModel cost_;  // budget mode: fitted to measured frames
   // figures()
   uint64_t frames_ = 0, clusters_drawn_ = 0, lods_drawn_ = 0, full_drawn_ = 0, visited_ = 0;

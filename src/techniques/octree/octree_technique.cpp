@@ -1,5 +1,6 @@
 #include "octree_technique.hpp"
 
+#include <chrono>
 #include <cstdio>
 
 namespace farfield {
@@ -20,12 +21,18 @@ constexpr SettingSpec kSettings[] = {
      .unit = "objects",
      .min = 1,
      .max = 1e6},
+    {.key = "occlusion",
+     .type = SettingType::flag,
+     .default_value = "0",
+     .help = "also skip what boxes inside the nearest opaque objects hide "
+             "(spatial/occluders.hpp; the image is unchanged); 0 is the paper's culling"},
 };
 
 OctreeTechniqueOptions options_from(const SettingValues& v) {
   OctreeTechniqueOptions o;
   o.tree.max_depth = uint32_t(v.integer("depth"));
   o.tree.objects_per_leaf = uint32_t(v.integer("leaf_objects"));
+  o.occlusion = v.flag("occlusion");
   return o;
 }
 
@@ -64,6 +71,7 @@ Result<void> OctreeTechnique::load(const LoadContext& context) {
   for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = scene.objects[i].bounds;
   tree_ = build_octree(bounds, options_.tree);
   visible_ = std::make_unique<ObjectSet>(scene);
+  occluders_ = options_.occlusion ? std::make_unique<Occluders>(scene) : nullptr;
   stack_.reserve(8 * (tree_.depth + 1) + 1);
   return {};
 }
@@ -76,6 +84,14 @@ void OctreeTechnique::select(const FrameInput& input, DrawList& out) {
   if (tree_.nodes.empty() || input.region.kind == Region::Kind::far_field) return;
   visible_->clear();
   const Frustum frustum(input.view);
+  const OcclusionMap* occlusion = nullptr;
+  if (occluders_) {
+    const auto start = std::chrono::steady_clock::now();
+    occluders_->fill(occlusion_, input.view, frustum);
+    out.occlusion_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    occlusion = &occlusion_;
+  }
   // Region::near: only what meets the box (the near field of a far-field technique).
   const bool near = input.region.kind == Region::Kind::near;
   const Bounds3& box = input.region.box;
@@ -87,6 +103,7 @@ void OctreeTechnique::select(const FrameInput& input, DrawList& out) {
     stack_.pop_back();
     const Visibility v = classify(frustum, node.bounds);
     if (v == Visibility::none || (near && !meet(node.bounds, box))) continue;
+    if (occlusion && occlusion->hidden(node.bounds)) continue;
     if (v == Visibility::partial && !node.leaf()) {
       for (uint32_t c = 0; c < node.child_count; ++c) stack_.push_back(node.first_child + c);
       continue;
@@ -97,6 +114,7 @@ void OctreeTechnique::select(const FrameInput& input, DrawList& out) {
       const Bounds3& bounds = scene_->objects[object].bounds;
       if (test && frustum.classify(bounds) == Visibility::none) continue;
       if (near && !meet(bounds, box)) continue;
+      if (occlusion && occlusion->hidden(bounds)) continue;
       visible_->insert(object);
     }
   }

@@ -12,6 +12,8 @@
 #include <memory>
 
 #include "farfield/core/frustum.hpp"
+#include "farfield/spatial/occluders.hpp"
+#include "farfield/spatial/occlusion_map.hpp"
 #include "farfield/spatial/octree.hpp"
 #include "farfield/techniques/object_set.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
@@ -25,6 +27,7 @@ struct OctreeTechniqueOptions {
   OctreeOptions tree;
   bool paper_visibility_test = false;  // paper 004's corner projection instead of planes
   bool test_objects_in_leaves = true;  // cull the objects of a partially visible leaf
+  bool occlusion = false;              // also cull what occluder boxes hide (issue 14)
 };
 
 class OctreeTechnique final : public Technique {
@@ -47,6 +50,8 @@ class OctreeTechnique final : public Technique {
   Octree tree_;
   std::unique_ptr<ObjectSet> visible_;
   std::vector<uint32_t> stack_;
+  std::unique_ptr<Occluders> occluders_;  // null: occlusion off
+  OcclusionMap occlusion_;
 };
 
 }  // namespace farfield

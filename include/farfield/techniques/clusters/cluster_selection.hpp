@@ -29,6 +29,7 @@
 
 #include "farfield/core/frustum.hpp"
 #include "farfield/scene/scene.hpp"
+#include "farfield/spatial/occlusion_map.hpp"
 #include "farfield/techniques/clusters/cluster_tree.hpp"
 #include "farfield/techniques/clusters/lod_set.hpp"
 
@@ -47,6 +48,7 @@ struct SelectionView {
   double triangles_per_draw = 0.0;  // what a draw costs, counted in triangles, under a budget
   int hysteresis = 0;               // under a budget: frames a refinement waits (0: none)
   HysteresisRule hysteresis_rule = HysteresisRule::flips;
+  const OcclusionMap* occlusion = nullptr;  // what it hides is not drawn, if given
 };
 
 // One thing to draw: a cluster's mesh, an object's level of detail, or an object whole.

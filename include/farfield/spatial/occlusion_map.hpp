@@ -1,0 +1,56 @@
+// A coarse map of occluder depth for culling any technique's nodes (issue 14; the approach of
+// Intel's Masked Software Occlusion Culling, HPG 2016, simplified: one depth per texel).
+// Occluders are boxes that lie inside opaque objects (spatial/occluders.hpp), rasterised on
+// the CPU into texels of `texel_px` x `texel_px` pixels; a box is hidden when every texel its
+// projection reaches holds an occluder nearer than the box's nearest point.
+//
+// Conservative by construction: a texel is marked only where an occluder face covers it
+// wholly (all four corners inside the face's projection), with the face's farthest view depth
+// over the texel (1/depth is affine over a plane's projection, so that is at a corner); a
+// box with a corner behind the near plane is never hidden. What the map hides cannot change
+// the image, as long as the occluder boxes lie inside what the renderer draws.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+
+#include "farfield/core/bounds.hpp"
+#include "farfield/core/view.hpp"
+
+namespace farfield {
+
+class OcclusionMap {
+ public:
+  // Sizes the map to the view (ceil(width / texel_px) texels across) and clears it.
+  void reset(const View& view, int texel_px = 4);
+  // Marks the texels that the faces of `box` towards the eye cover wholly.
+  void add_box(const Bounds3& box);
+  // Whether an occluder lies in front of every point of `box` that reaches the screen.
+  bool hidden(const Bounds3& box) const;
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  // The marked view depth of a texel (row 0 at the bottom), INFINITY where none is.
+  float depth_at(int x, int y) const { return depth_[size_t(y) * size_t(width_) + size_t(x)]; }
+  size_t marked() const;
+  uint32_t occluders() const { return occluders_; }
+
+ private:
+  // Texel coordinates of a view-space point in front of the near plane.
+  glm::vec2 to_texels(const glm::vec3& view_point) const;
+  void fill_face(const glm::vec3* corners);  // four corners in view space, in order
+
+  glm::mat4 view_matrix_{1.0f};
+  glm::vec3 eye_{0.0f};
+  float scale_x_ = 1, scale_y_ = 1;  // texel units per unit of x/depth, y/depth
+  float near_ = 0.1f;
+  int width_ = 0, height_ = 0;
+  float texels_x_ = 0, texels_y_ = 0;  // the screen's extent in texels (fractional)
+  std::vector<float> depth_;           // row 0 at the bottom, as GL's window coordinates
+  std::vector<float> corner_depth_;    // scratch: per lattice point of a face's rectangle
+  uint32_t occluders_ = 0;
+};
+
+}  // namespace farfield
