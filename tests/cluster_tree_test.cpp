@@ -119,6 +119,25 @@ TEST(ClusterTree, EveryObjectOnceInsideItsNode) {
   EXPECT_GT(inner_with_own, 0u);  // streets and curbs across cells stay higher up
 }
 
+// A loose octree keeps fewer objects up in the hierarchy than the paper's exact cells, which
+// keep every object across a cell's middle in that cell (the city's streets across its middle
+// lines at the root), and the paper's rule stays reachable.
+TEST(ClusterTree, LooseCellsHoldFewerObjectsHighUp) {
+  const Scene& scene = small_city();
+  auto own_above_leaves = [&](float loose) {
+    ClusterTreeOptions o = small_leaves();
+    o.loose = loose;
+    const ClusterTree tree = build_cluster_cells(scene, o);
+    size_t own = 0;
+    for (const ClusterNode& node : tree.nodes)
+      if (!node.leaf()) own += node.own_end - node.objects_begin;
+    return own;
+  };
+  const size_t paper = own_above_leaves(0.0f), loose = own_above_leaves(0.5f);
+  EXPECT_GT(paper, 0u);
+  EXPECT_LT(loose, paper / 2);
+}
+
 // A cluster's stored error bounds the distance between its mesh and its objects both ways
 // (measured at random points) and never falls below its children's; its mesh has at most
 // clusters_triangles and half of its objects' triangles (a little more where the simplifier

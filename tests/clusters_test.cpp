@@ -301,6 +301,23 @@ TEST(FrameCostModel, FitsAFixedPartAndAPartPerTriangle) {
   EXPECT_NEAR(steady.ms_per_triangle(), 25.0 / 20000.0, 1e-12);
 }
 
+// A walk held at one coarse cut for many frames after frames that varied: the longer memory
+// still tells the fixed part from the part per triangle (the fly over the 10M city stayed at
+// its root's 892 triangles for 290 frames when the whole time was charged to them).
+TEST(FrameCostModel, KeepsThePartsWhileTheRecentFramesHoldOneCount) {
+  FrameCostModel model;
+  for (int i = 0; i < 20; ++i) {
+    const double triangles = 10000.0 + 10000.0 * (i % 4);
+    model.observe(triangles, 10.0, 9.0 + 0.0005 * triangles);
+  }
+  for (int i = 0; i < 60; ++i) model.observe(900.0, 2.0, 9.45);
+  EXPECT_NEAR(model.ms_per_triangle(), 0.0005, 1e-4);
+  EXPECT_NEAR(model.predict_ms(900.0, 2.0), 9.45, 1e-6);
+  // Room for tens of thousands of triangles in 30 ms, not the 2,900 that charging 9.45 ms to
+  // 900 triangles would allow.
+  EXPECT_GT(model.triangles_within(30.0), 30000.0);
+}
+
 // Frames whose triangles and draws vary apart give all three parts; the budget then counts
 // a draw as the triangles it costs as much as.
 TEST(FrameCostModel, FitsAPartPerDrawWhereDrawsVaryOnTheirOwn) {

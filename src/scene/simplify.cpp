@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 #include <glm/geometric.hpp>
 
@@ -317,6 +318,46 @@ float surface_distance(const MeshPart& from, const MeshPart& to) {
   return distance_bound(from, tree, kResolution * glm::length(region.size()));
 }
 
+// Each triangle of `mesh` the colour of `from`'s surface nearest its centre (its triangle's
+// corners averaged). A simplified triangle spans what were several (a street and a lawn, a
+// window and its wall), and its corners' colours interpolated across it smear them into one
+// another; meshoptimizer 0.18 simplifies by position alone.
+void take_colours_from(const MeshPart& from, MeshPart& mesh) {
+  if (mesh.indices.empty() || from.indices.empty()) return;
+  const TriangleTree tree(from);
+  MeshPart out;
+  out.material = mesh.material;
+  std::unordered_map<uint64_t, uint32_t> made;  // (vertex, colour) -> its copy
+  uint32_t hint = 0;
+  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const glm::vec3 centre =
+        (mesh.vertices[mesh.indices[t]].position + mesh.vertices[mesh.indices[t + 1]].position +
+         mesh.vertices[mesh.indices[t + 2]].position) /
+        3.0f;
+    hint = tree.nearest(centre, hint).triangle;
+    uint32_t sum[4] = {0, 0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t c = from.vertices[from.indices[size_t(hint) * 3 + size_t(k)]].color;
+      for (int ch = 0; ch < 4; ++ch) sum[ch] += (c >> (8 * ch)) & 0xffu;
+    }
+    uint32_t colour = 0;
+    for (int ch = 0; ch < 4; ++ch) colour |= ((sum[ch] + 1) / 3) << (8 * ch);
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = mesh.indices[t + size_t(k)];
+      const auto [at, fresh] =
+          made.try_emplace(uint64_t(v) << 32 | colour, uint32_t(out.vertices.size()));
+      if (fresh) {
+        Vertex copy = mesh.vertices[v];
+        copy.color = colour;
+        out.vertices.push_back(copy);
+        if (!mesh.uvs.empty()) out.uvs.push_back(mesh.uvs[v]);
+      }
+      out.indices.push_back(at->second);
+    }
+  }
+  mesh = std::move(out);
+}
+
 float farthest_distance(const std::vector<glm::vec3>& points, const MeshPart& mesh) {
   if (points.empty()) return 0.0f;
   if (mesh.indices.empty()) return std::numeric_limits<float>::infinity();
@@ -414,6 +455,7 @@ SimplifiedPart simplify_part(const MeshPart& part, const SimplifyOptions& option
       out.mesh.indices.push_back(new_index[chosen]);
     }
   }
+  take_colours_from(part, out.mesh);
   // The error in metres, raised to a bound of the distance between the two surfaces both
   // ways (meshoptimizer's is an estimate from its quadrics). Nothing left: the part's size.
   out.error_m = relative_error * scale;

@@ -37,15 +37,21 @@ Bounds3 cube_around(const Bounds3& b) {
   return {centre - glm::vec3(half), centre + glm::vec3(half)};
 }
 
-// The octant of `cube` that wholly contains `b`, or -1 where `b` lies across its middle.
-int octant_of(const Bounds3& cube, const Bounds3& b) {
+// The octant of `cube` that holds `b`, or -1 where none does. `loose` = 0 (paper 001, Sec.
+// 4.4): the octant wholly containing `b`; anything across the middle stays in the cell.
+// Otherwise (a loose octree): the octant holding b's centre, if b fits in that octant grown
+// by `loose` of its size on every side.
+int octant_of(const Bounds3& cube, const Bounds3& b, float loose) {
   const glm::vec3 centre = (cube.min + cube.max) * 0.5f;
+  const glm::vec3 margin = (cube.max - cube.min) * 0.5f * loose;
+  const glm::vec3 middle = b.center();
   int octant = 0;
   for (int a = 0; a < 3; ++a) {
-    if (b.min[a] >= centre[a])
-      octant |= 1 << a;
-    else if (b.max[a] > centre[a])
-      return -1;
+    const bool high = loose > 0.0f ? middle[a] >= centre[a] : b.min[a] >= centre[a];
+    const float lo = (high ? centre[a] : cube.min[a]) - margin[a];
+    const float hi = (high ? cube.max[a] : centre[a]) + margin[a];
+    if (b.min[a] < lo || b.max[a] > hi) return -1;
+    octant |= int(high) << a;
   }
   return octant;
 }
@@ -75,7 +81,7 @@ void split(Cell& cell, const Scene& scene, const ClusterTreeOptions& o, std::vec
     }
     Cell octants[8];
     for (uint32_t object : cell.objects) {
-      const int k = octant_of(cell.cube, scene.objects[object].bounds);
+      const int k = octant_of(cell.cube, scene.objects[object].bounds, o.loose);
       (k < 0 ? own : octants[k].objects).push_back(object);
     }
     for (int k = 0; k < 8; ++k) {
@@ -176,7 +182,7 @@ ClusterTree build_cluster_cells(const Scene& scene, const ClusterTreeOptions& o)
 
 Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOptions& o,
                                        Progress& progress, Store* keep) {
-  if (o.leaf_objects < 1 || o.cluster_triangles < 1 || o.max_depth < 0)
+  if (o.leaf_objects < 1 || o.cluster_triangles < 1 || o.max_depth < 0 || !(o.loose >= 0.0f))
     return make_error("cluster hierarchy options out of range");
   const auto start = std::chrono::steady_clock::now();
   ClusterTree tree = build_cluster_cells(scene, o);

@@ -46,6 +46,15 @@ constexpr SettingSpec kSettings[] = {
      .min = 1,
      .max = 1e6,
      .baked = true},
+    {.key = "loose",
+     .type = SettingType::number,
+     .default_value = "0.5",
+     .help = "an octant of the hierarchy takes the objects whose centre it holds that fit in it "
+             "grown by this share of its size on every side (a loose octree); 0: the paper's "
+             "cells, where what crosses a cell's middle stays in the cell",
+     .min = 0,
+     .max = 4,
+     .baked = true},
     {.key = "cluster_triangles",
      .type = SettingType::integer,
      .default_value = "2048",
@@ -97,7 +106,7 @@ const TechniqueDescriptor clusters_descriptor{
     .paper = "001",
     .settings = kSettings,
     .bake = BakeUse::optional,
-    .bake_format = 2,
+    .bake_format = 3,
     .make = [](const SettingValues& v,
                const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       ClustersOptions o;
@@ -107,6 +116,7 @@ const TechniqueDescriptor clusters_descriptor{
       o.lods.threads = v.integer("threads");
       o.tree.leaf_objects = uint32_t(v.integer("leaf_objects"));
       o.tree.cluster_triangles = uint32_t(v.integer("cluster_triangles"));
+      o.tree.loose = float(v.number("loose"));
       o.tree.threads = o.lods.threads;
       o.hysteresis = v.integer("hysteresis");
       o.occlusion = v.flag("occlusion");
@@ -117,6 +127,15 @@ const TechniqueDescriptor clusters_descriptor{
       return std::unique_ptr<Technique>(std::make_unique<ClustersTechnique>(o));
     },
 };
+
+namespace {
+
+size_t count_clusters(const ClusterTree& tree) {
+  return size_t(std::count_if(tree.nodes.begin(), tree.nodes.end(),
+                              [](const ClusterNode& n) { return n.clustered(); }));
+}
+
+}  // namespace
 
 // Finished objects and clusters are kept in the pack as the bake goes (bake_work.hpp), so a
 // bake killed and run again redoes only the rest; the work goes once the bake is saved.
@@ -130,6 +149,7 @@ Result<void> ClustersTechnique::bake(const BakeContext& context) {
   if (auto erased = context.store.erase("clusters/work/"); !erased) return erased.error();
   lods_ = std::move(*lods);
   tree_ = std::move(*tree);
+  clusters_ = count_clusters(tree_);
   return {};
 }
 
@@ -161,8 +181,7 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, const Scene& 
   lods_ = std::move(lods);
   tree_ = std::move(tree);
   scene_ = &scene;
-  clusters_ = size_t(std::count_if(tree_.nodes.begin(), tree_.nodes.end(),
-                                   [](const ClusterNode& n) { return n.clustered(); }));
+  clusters_ = count_clusters(tree_);
   if (tree_.objects.size() == scene.objects.size()) order_lods_by_level(lods_, tree_.objects);
   resources_.bind(device);
   lod_mesh_ = cluster_mesh_ = {};

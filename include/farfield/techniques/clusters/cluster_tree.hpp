@@ -1,10 +1,12 @@
 // The cluster hierarchy of paper 001, Sec. 4.4, built bottom-up over octree cells: each object
 // lies in the smallest cell that wholly contains it (objects on a cell's boundaries are grouped
-// higher up), and a cell where more than one object lies wholly inside gets a cluster: one
-// merged mesh of those objects per material, simplified from the real objects (never from the
-// clusters below it) by scene/simplify, with its geometric error in metres (a modern HLOD: the
-// paper's cluster representation is a textured box; this is the geometric one beside it).
-// A node's error is never below its children's, so that refining never makes the error worse.
+// higher up; with ClusterTreeOptions::loose, the default, cells grown by a share of their size
+// take what crosses their edges, as a loose octree does), and a cell where more than one object
+// lies wholly inside gets a cluster: one merged mesh of those objects per material, simplified from
+// the real objects (never from the clusters below it) by scene/simplify, with its geometric error
+// in metres (a modern HLOD: the paper's cluster representation is a textured box; this is the
+// geometric one beside it). A node's error is never below its children's, so that refining never
+// makes the error worse.
 #pragma once
 
 #include <cstdint>
@@ -48,7 +50,11 @@ struct ClusterTreeOptions {
   uint32_t leaf_objects = 16;         // a cell with more objects wholly inside is split
   int max_depth = 16;                 // cells this deep are not split
   uint32_t cluster_triangles = 2048;  // triangles of a cluster's mesh, at most half its objects'
-  int threads = 0;                    // 0: all cores
+  // A loose octree: an octant takes the objects whose centre it holds that fit in it grown by
+  // this share of its size on every side; 0: the paper's cells (an object across a middle
+  // stays in the cell, so a city's root holds every object on its two middle lines).
+  float loose = 0.5f;
+  int threads = 0;  // 0: all cores
 };
 
 struct ClusterTree {

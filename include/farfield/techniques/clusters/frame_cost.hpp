@@ -5,9 +5,10 @@
 // and the path. On llvmpipe a draw costs as much as a few hundred triangles, so a budget
 // counted in triangles alone buys too many small draws. Where the frames measured do not
 // vary enough to tell the parts apart (triangles and draws within 10%, or moving together),
-// the draws are left out, and where triangles do not vary either the whole time is charged
-// to the triangles (no fixed part): exact at the count measured, and the changes a budget
-// makes to the counts then tell the parts apart.
+// the draws are left out; where triangles do not vary either, the parts a longer memory of
+// frames tells apart (the fixed part set to match the recent frames), and failing that the
+// whole time is charged to the triangles (no fixed part): exact at the count measured, and
+// the changes a budget makes to the counts then tell the parts apart.
 #pragma once
 
 #include <cstdint>
@@ -17,7 +18,7 @@ namespace farfield {
 class FrameCostModel {
  public:
   void observe(double triangles, double draws, double ms);
-  bool ready() const { return weight_ > 0.0; }
+  bool ready() const { return recent_.weight > 0.0; }
   double fixed_ms() const { return fit_.fixed; }
   double ms_per_triangle() const { return fit_.per_triangle; }
   double ms_per_draw() const { return fit_.per_draw; }
@@ -37,11 +38,18 @@ class FrameCostModel {
   struct Fit {
     double fixed = 0, per_triangle = 0, per_draw = 0;
   };
-  Fit solve() const;                    // from the sums
-  Fit fit_;                             // solve() after the last observe()
-  static constexpr double kKeep = 0.9;  // each frame's weight against the previous ones'
-  // Weighted sums of t (triangles), d (draws), y (ms) and their products.
-  double weight_ = 0, t_ = 0, d_ = 0, y_ = 0, tt_ = 0, td_ = 0, dd_ = 0, ty_ = 0, dy_ = 0;
+  // Exponentially weighted sums of t (triangles), d (draws), y (ms) and their products.
+  struct Sums {
+    double weight = 0, t = 0, d = 0, y = 0, tt = 0, td = 0, dd = 0, ty = 0, dy = 0;
+    void add(double keep, double t, double d, double y);
+  };
+  // The least squares of `sums`; `separated`: the parts could be told apart.
+  static Fit solve(const Sums& sums, bool& separated);
+  // Each frame's weight against the previous ones': the recent frames (about ten), and a
+  // longer memory (about a hundred) for when the recent ones do not vary.
+  static constexpr double kKeep = 0.9, kKeepLonger = 0.99;
+  Sums recent_, longer_;
+  Fit fit_;  // after the last observe()
 };
 
 }  // namespace farfield
