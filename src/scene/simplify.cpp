@@ -309,22 +309,29 @@ MeshPart gather_part(const Scene& scene, std::span<const uint32_t> objects, uint
   return part;
 }
 
-float surface_distance(const MeshPart& from, const MeshPart& to) {
+namespace {
+
+float surface_distance(const MeshPart& from, const MeshPart& to, const TriangleTree& to_tree) {
   if (from.indices.empty()) return 0.0f;
   if (to.indices.empty()) return std::numeric_limits<float>::infinity();
   Bounds3 region = bounds_of(from);
   region.expand(bounds_of(to));
-  const TriangleTree tree(to);
-  return distance_bound(from, tree, kResolution * glm::length(region.size()));
+  return distance_bound(from, to_tree, kResolution * glm::length(region.size()));
+}
+
+}  // namespace
+
+float surface_distance(const MeshPart& from, const MeshPart& to) {
+  const TriangleTree to_tree(to);
+  return surface_distance(from, to, to_tree);
 }
 
 // Each triangle of `mesh` the colour of `from`'s surface nearest its centre (its triangle's
 // corners averaged). A simplified triangle spans what were several (a street and a lawn, a
 // window and its wall), and its corners' colours interpolated across it smear them into one
 // another; meshoptimizer 0.18 simplifies by position alone.
-void take_colours_from(const MeshPart& from, MeshPart& mesh) {
+void take_colours_from(const MeshPart& from, const TriangleTree& tree, MeshPart& mesh) {
   if (mesh.indices.empty() || from.indices.empty()) return;
-  const TriangleTree tree(from);
   MeshPart out;
   out.material = mesh.material;
   std::unordered_map<uint64_t, uint32_t> made;  // (vertex, colour) -> its copy
@@ -455,13 +462,14 @@ SimplifiedPart simplify_part(const MeshPart& part, const SimplifyOptions& option
       out.mesh.indices.push_back(new_index[chosen]);
     }
   }
-  take_colours_from(part, out.mesh);
+  const TriangleTree part_tree(part);
+  take_colours_from(part, part_tree, out.mesh);
   // The error in metres, raised to a bound of the distance between the two surfaces both
   // ways (meshoptimizer's is an estimate from its quadrics). Nothing left: the part's size.
   out.error_m = relative_error * scale;
   if (!out.mesh.indices.empty())
-    out.error_m =
-        std::max({out.error_m, surface_distance(out.mesh, part), surface_distance(part, out.mesh)});
+    out.error_m = std::max({out.error_m, surface_distance(out.mesh, part, part_tree),
+                            surface_distance(part, out.mesh)});
   else
     out.error_m = glm::length(bounds_of(part).size());
   return out;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -10,11 +11,6 @@
 namespace farfield {
 
 namespace {
-
-float distance_to(const Bounds3& box, const glm::vec3& eye) {
-  const glm::vec3 d = glm::max(glm::max(box.min - eye, eye - box.max), glm::vec3(0.0f));
-  return glm::length(d);
-}
 
 // Whether a triangle meets a box (separating axes: the box's three, the triangle's normal,
 // and the nine cross products of their edges; Akenine-Moller 2001).
@@ -72,13 +68,17 @@ std::optional<Bounds3> inscribed_box(const Scene& scene, uint32_t object) {
   struct Candidate {
     float width, height, volume;
   };
-  static constexpr float kWidths[] = {0.97f, 0.92f, 0.85f, 0.75f, 0.6f, 0.45f};
-  static constexpr float kHeights[] = {0.97f, 0.9f, 0.8f, 0.7f, 0.55f, 0.4f, 0.25f};
-  std::vector<Candidate> candidates;
-  for (float w : kWidths)
-    for (float h : kHeights) candidates.push_back({w, h, w * w * h});
-  std::stable_sort(candidates.begin(), candidates.end(),
-                   [](const Candidate& a, const Candidate& b) { return a.volume > b.volume; });
+  // Shares of the object's width and height, the largest volume first.
+  static const std::vector<Candidate> kCandidates = [] {
+    constexpr float kWidths[] = {0.97f, 0.92f, 0.85f, 0.75f, 0.6f, 0.45f};
+    constexpr float kHeights[] = {0.97f, 0.9f, 0.8f, 0.7f, 0.55f, 0.4f, 0.25f};
+    std::vector<Candidate> candidates;
+    for (float w : kWidths)
+      for (float h : kHeights) candidates.push_back({w, h, w * w * h});
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.volume > b.volume; });
+    return candidates;
+  }();
 
   const uint32_t* idx = &scene.indices[o.first_index];
   const size_t triangles = o.index_count / 3;
@@ -95,7 +95,7 @@ std::optional<Bounds3> inscribed_box(const Scene& scene, uint32_t object) {
   }();
 
   const glm::vec3 mid = o.bounds.center();
-  for (const Candidate& c : candidates) {
+  for (const Candidate& c : kCandidates) {
     const glm::vec3 half(0.5f * c.width * size.x, 0.5f * c.height * size.y,
                          0.5f * c.width * size.z);
     const glm::vec3 centre(mid.x, o.bounds.min.y + 1e-3f * size.y + half.y, mid.z);
@@ -142,7 +142,14 @@ const Bounds3* Occluders::box_of(uint32_t object) {
   return state_[object] == found ? &boxes_[object] : nullptr;
 }
 
-void Occluders::fill(OcclusionMap& map, const View& view, const Frustum& frustum) {
+double Occluders::fill(OcclusionMap& map, const View& view, const Frustum& frustum) {
+  const auto start = std::chrono::steady_clock::now();
+  rasterise(map, view, frustum);
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+void Occluders::rasterise(OcclusionMap& map, const View& view, const Frustum& frustum) {
   map.reset(view, options_.texel_px);
   if (tree_.nodes.empty() || options_.per_frame == 0) return;
   ++frame_;

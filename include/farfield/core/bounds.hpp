@@ -3,6 +3,7 @@
 
 #include <glm/vec3.hpp>
 #include <glm/common.hpp>
+#include <cmath>
 #include <limits>
 
 namespace farfield {
@@ -33,6 +34,12 @@ struct Bounds3 {
 inline bool meet(const Bounds3& a, const Bounds3& b) {
   return a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y && b.min.y <= a.max.y &&
          a.min.z <= b.max.z && b.min.z <= a.max.z;
+}
+
+// The distance from a point to the nearest point of a box (0 inside).
+inline float distance_to(const Bounds3& box, const glm::vec3& point) {
+  const glm::vec3 d = glm::max(glm::max(box.min - point, point - box.max), glm::vec3(0.0f));
+  return std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
 }
 
 }  // namespace farfield

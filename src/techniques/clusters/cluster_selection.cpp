@@ -8,12 +8,6 @@ namespace farfield {
 
 namespace {
 
-// The distance from the eye to the nearest point of a box (0 inside).
-float distance_to(const Bounds3& box, const glm::vec3& eye) {
-  const glm::vec3 d = glm::max(glm::max(box.min - eye, eye - box.max), glm::vec3(0.0f));
-  return glm::length(d);
-}
-
 bool inside(const Bounds3& box, const Bounds3& region) {
   return box.min.x >= region.min.x && box.min.y >= region.min.y && box.min.z >= region.min.z &&
          box.max.x <= region.max.x && box.max.y <= region.max.y && box.max.z <= region.max.z;

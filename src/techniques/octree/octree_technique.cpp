@@ -1,6 +1,5 @@
 #include "octree_technique.hpp"
 
-#include <chrono>
 #include <cstdio>
 
 namespace farfield {
@@ -86,10 +85,7 @@ void OctreeTechnique::select(const FrameInput& input, DrawList& out) {
   const Frustum frustum(input.view);
   const OcclusionMap* occlusion = nullptr;
   if (occluders_) {
-    const auto start = std::chrono::steady_clock::now();
-    occluders_->fill(occlusion_, input.view, frustum);
-    out.occlusion_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    out.occlusion_ms = occluders_->fill(occlusion_, input.view, frustum);
     occlusion = &occlusion_;
   }
   // Region::near: only what meets the box (the near field of a far-field technique).
