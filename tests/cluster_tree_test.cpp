@@ -242,7 +242,7 @@ float pixel_of(const View& v) {
 // map: nothing it hides is drawn, what it hides is covered at most once; returns the objects
 // in view that it hides.
 int expect_complete(const std::vector<Choice>& choices, const Frustum& frustum,
-                    const OcclusionMap* map = nullptr) {
+                    const OcclusionMap* map = nullptr, const BoxSet* boxes = nullptr) {
   const Scene& scene = small_city();
   const Baked& b = baked();
   const std::vector<uint32_t> at = node_of_objects(b.tree, scene.objects.size());
@@ -250,13 +250,31 @@ int expect_complete(const std::vector<Choice>& choices, const Frustum& frustum,
   auto hidden = [&](const Bounds3& box) { return map && map->hidden(box); };
   std::vector<int> drawn(scene.objects.size(), 0);
   std::vector<bool> cluster_drawn(b.tree.nodes.size(), false);
+  std::vector<uint32_t> box_node, box_object;  // what each box stands for
+  if (boxes) {
+    box_node.assign(boxes->boxes.size(), UINT32_MAX);
+    box_object.assign(boxes->boxes.size(), UINT32_MAX);
+    for (uint32_t n = 0; n < boxes->node_box.size(); ++n)
+      if (boxes->node_box[n] != BoxSet::kNone) box_node[boxes->node_box[n]] = n;
+    for (uint32_t o = 0; o < boxes->object_box.size(); ++o)
+      if (boxes->object_box[o] != BoxSet::kNone) box_object[boxes->object_box[o]] = o;
+  }
   for (const Choice& c : choices) {
-    if (c.kind == Choice::Kind::cluster) {
-      EXPECT_FALSE(hidden(b.tree.nodes[c.index].bounds)) << "node " << c.index;
-      cluster_drawn[c.index] = true;
+    uint32_t node = c.kind == Choice::Kind::cluster ? c.index : UINT32_MAX;
+    if (c.kind == Choice::Kind::box) {
+      EXPECT_TRUE(boxes) << "a box chosen where there are none";
+      if (!boxes) continue;
+      node = box_node[c.index];
+    }
+    if (node != UINT32_MAX) {
+      EXPECT_FALSE(hidden(b.tree.nodes[node].bounds)) << "node " << node;
+      EXPECT_FALSE(cluster_drawn[node]) << "node " << node << " twice";
+      cluster_drawn[node] = true;
       continue;
     }
-    const uint32_t o = c.kind == Choice::Kind::whole ? c.index : b.lods.lods[c.index].object;
+    const uint32_t o = c.kind == Choice::Kind::whole ? c.index
+                       : c.kind == Choice::Kind::box ? box_object[c.index]
+                                                     : b.lods.lods[c.index].object;
     EXPECT_FALSE(hidden(scene.objects[o].bounds)) << "object " << o;
     ++drawn[o];
   }
@@ -339,6 +357,78 @@ TEST(ClusterSelection, UnderABudgetCompleteWithinItAndBetterWithMore) {
     previous_error = s.largest_error_px;
   }
   EXPECT_EQ(previous_error, 0.0f);  // 10^7 triangles: every object in view whole
+}
+
+// Boxes with an error of a twentieth of their size for every cluster and every object of 32
+// triangles or more (selection reads no pixels): 12 triangles each.
+BoxSet synthetic_boxes(const Scene& scene, const ClusterTree& tree) {
+  BoxSet set;
+  set.object_box.assign(scene.objects.size(), BoxSet::kNone);
+  set.node_box.assign(tree.nodes.size(), BoxSet::kNone);
+  auto add = [&](const Bounds3& bounds) {
+    TexturedBox box;
+    box.bounds = bounds;
+    const glm::vec3 s = bounds.size();
+    box.error_m = 0.05f * std::max({s.x, s.y, s.z});
+    for (BoxSide& side : box.sides) side = {0, 0, 4, 4};
+    set.boxes.push_back(box);
+    return uint32_t(set.boxes.size() - 1);
+  };
+  for (uint32_t n = 0; n < tree.nodes.size(); ++n)
+    if (tree.nodes[n].clustered()) set.node_box[n] = add(tree.nodes[n].bounds);
+  for (uint32_t o = 0; o < scene.objects.size(); ++o)
+    if (scene.objects[o].index_count / 3 >= 32) set.object_box[o] = add(scene.objects[o].bounds);
+  return set;
+}
+
+// Boxes are a node's and an object's coarsest representation: by error the choices stay
+// complete and within the error, boxes drawn where their error allows, and fewer triangles
+// than without them; under a budget complete at every budget, a tight one met with boxes, and
+// everything whole once the budget affords it.
+TEST(ClusterSelection, BoxesStandForTheirNodesAndObjects) {
+  const Scene& scene = small_city();
+  const Baked& b = baked();
+  const BoxSet boxes = synthetic_boxes(scene, b.tree);
+  ClusterSelection with(scene, b.tree, b.lods, &boxes), without(scene, b.tree, b.lods);
+  auto count_boxes = [](const std::vector<Choice>& choices) {
+    return std::count_if(choices.begin(), choices.end(),
+                         [](const Choice& c) { return c.kind == Choice::Kind::box; });
+  };
+  for (float height : {2.0f, 300.0f}) {
+    const View view = corner_view(height);
+    const Frustum frustum(view);
+    for (float error_px : {2.0f, 64.0f}) {
+      SCOPED_TRACE(testing::Message() << height << " m, " << error_px << " px");
+      SelectionView sv{&frustum, view.pose.position, pixel_of(view), std::nullopt, error_px, -1.0};
+      std::vector<Choice> a, c;
+      const SelectionStats s = with.select(sv, ClusterTraversal::refined, a);
+      expect_complete(a, frustum, nullptr, &boxes);
+      EXPECT_LE(s.largest_error_px, error_px);
+      EXPECT_LE(s.triangles, without.select(sv, ClusterTraversal::refined, c).triangles);
+      if (error_px == 64.0f) {
+        EXPECT_GT(count_boxes(a), 0);
+      }
+      std::vector<Choice> paper;
+      EXPECT_EQ(with.select(sv, ClusterTraversal::paper, paper).triangles, s.triangles);
+    }
+    SelectionView sv{&frustum, view.pose.position, pixel_of(view), std::nullopt, 1.0f, 0.0};
+    for (double budget : {3e2, 5e3, 5e4, 1e7}) {
+      SCOPED_TRACE(testing::Message() << height << " m, " << budget << " triangles");
+      sv.max_triangles = budget;
+      std::vector<Choice> choices;
+      const SelectionStats s = with.select(sv, ClusterTraversal::refined, choices);
+      expect_complete(choices, frustum, nullptr, &boxes);
+      if (budget == 3e2) {
+        EXPECT_GT(count_boxes(choices), 0);
+        std::vector<Choice> plain;
+        EXPECT_LE(s.triangles, without.select(sv, ClusterTraversal::refined, plain).triangles);
+      }
+      if (budget == 1e7) {
+        EXPECT_EQ(count_boxes(choices), 0);
+        EXPECT_EQ(s.largest_error_px, 0.0f);
+      }
+    }
+  }
 }
 
 // Temporal coherence (paper 001, Sec. 4.6): a budget that swings every frame between two

@@ -87,6 +87,30 @@ Scene make_textured_scene(AlphaMode mode) {
   return scene;
 }
 
+void add_cuboid(SceneBuilder& b, const glm::vec3& lo, const glm::vec3& hi) {
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sign = -1; sign <= 1; sign += 2) {
+      glm::vec3 n(0.0f);
+      n[axis] = float(sign);
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      const uint32_t first = b.vertex_count();
+      for (int corner = 0; corner < 4; ++corner) {
+        glm::vec3 p;
+        p[axis] = sign > 0 ? hi[axis] : lo[axis];
+        p[u] = corner & 1 ? hi[u] : lo[u];
+        p[v] = (corner >> 1) & 1 ? hi[v] : lo[v];
+        b.add_vertex(p, n, 0xffffffffu);
+      }
+      if (sign > 0) {
+        b.add_triangle(first, first + 1, first + 3);
+        b.add_triangle(first, first + 3, first + 2);
+      } else {
+        b.add_triangle(first, first + 3, first + 1);
+        b.add_triangle(first, first + 2, first + 3);
+      }
+    }
+}
+
 Scene make_box_row(int boxes) {
   Scene scene;
   SceneBuilder b(scene);
@@ -95,29 +119,7 @@ Scene make_box_row(int boxes) {
   for (int i = 0; i < boxes; ++i) {
     b.begin_object("box_" + std::to_string(i), i % 5 == 0 ? ObjectKind::building : ObjectKind::mesh,
                    i % 2 ? glass : opaque);
-    const glm::vec3 o(2.0f * i, 0.0f, 0.0f);
-    for (int axis = 0; axis < 3; ++axis) {
-      for (int sign = -1; sign <= 1; sign += 2) {
-        glm::vec3 n(0.0f);
-        n[axis] = float(sign);
-        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-        const uint32_t first = b.vertex_count();
-        for (int corner = 0; corner < 4; ++corner) {
-          glm::vec3 p(0.5f);
-          p[axis] = 0.5f + 0.5f * sign;
-          p[u] = float(corner & 1);
-          p[v] = float((corner >> 1) & 1);
-          b.add_vertex(o + p, n, 0xffffffffu);
-        }
-        if (sign > 0) {
-          b.add_triangle(first, first + 1, first + 3);
-          b.add_triangle(first, first + 3, first + 2);
-        } else {
-          b.add_triangle(first, first + 3, first + 1);
-          b.add_triangle(first, first + 2, first + 3);
-        }
-      }
-    }
+    add_cuboid(b, glm::vec3(2.0f * i, 0.0f, 0.0f), glm::vec3(2.0f * i + 1.0f, 1.0f, 1.0f));
     b.end_object();
   }
   return scene;

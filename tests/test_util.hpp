@@ -27,6 +27,9 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+// A cuboid of six flat faces into the current object, counter-clockwise seen from outside.
+void add_cuboid(SceneBuilder& b, const glm::vec3& lo, const glm::vec3& hi);
+
 // `boxes` unit cubes along X, one object each, alternating an opaque and a transparent material.
 Scene make_box_row(int boxes);
 

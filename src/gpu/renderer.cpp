@@ -741,36 +741,49 @@ void Renderer::set_clear_alpha(float alpha) {
   state_->clear_alpha = alpha;
 }
 
-std::vector<uint8_t> Renderer::capture_alpha() {
-  State& s = *state_;
-  FF_ASSERT(s.frame_width > 0 && s.frame_height > 0, "capture_alpha() before any frame was drawn");
+namespace {
+
+// The last frame's pixels in one format (glFinish first), rows from the top: `channels`
+// values of T a pixel.
+template <class T>
+std::vector<T> read_frame(GLuint framebuffer, int width, int height, GLenum format, GLenum type,
+                          int channels) {
+  FF_ASSERT(width > 0 && height > 0, "a capture before any frame was drawn");
   glFinish();
-  std::vector<uint8_t> alpha(size_t(s.frame_width) * size_t(s.frame_height));
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, s.framebuffer);
+  std::vector<T> pixels(size_t(width) * size_t(height) * size_t(channels));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, s.frame_width, s.frame_height, GL_ALPHA, GL_UNSIGNED_BYTE, alpha.data());
-  const size_t row = size_t(s.frame_width);
-  for (int y = 0; y < s.frame_height / 2; ++y)
-    std::swap_ranges(alpha.begin() + ptrdiff_t(y * row), alpha.begin() + ptrdiff_t((y + 1) * row),
-                     alpha.begin() + ptrdiff_t((s.frame_height - 1 - y) * row));
-  return alpha;
+  glReadPixels(0, 0, width, height, format, type, pixels.data());
+  // GL rows start at the bottom.
+  const ptrdiff_t row = ptrdiff_t(width) * channels;
+  for (int y = 0; y < height / 2; ++y)
+    std::swap_ranges(pixels.begin() + y * row, pixels.begin() + (y + 1) * row,
+                     pixels.begin() + (height - 1 - y) * row);
+  return pixels;
+}
+
+}  // namespace
+
+std::vector<uint8_t> Renderer::capture_alpha() {
+  const State& s = *state_;
+  return read_frame<uint8_t>(s.framebuffer, s.frame_width, s.frame_height, GL_ALPHA,
+                             GL_UNSIGNED_BYTE, 1);
+}
+
+std::vector<float> Renderer::capture_depth() {
+  const State& s = *state_;
+  return read_frame<float>(s.framebuffer, s.frame_width, s.frame_height, GL_DEPTH_COMPONENT,
+                           GL_FLOAT, 1);
 }
 
 Image Renderer::capture() {
-  State& s = *state_;
-  FF_ASSERT(s.frame_width > 0 && s.frame_height > 0, "capture() before any frame was drawn");
-  glFinish();
-  Image image(s.frame_width, s.frame_height);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, s.framebuffer);
-  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, image.width, image.height, GL_RGB, GL_UNSIGNED_BYTE, image.rgb.data());
-  // GL rows start at the bottom, Image rows at the top.
-  const size_t row = size_t(image.width) * 3;
-  for (int y = 0; y < image.height / 2; ++y)
-    std::swap_ranges(image.pixel(0, y), image.pixel(0, y) + row,
-                     image.pixel(0, image.height - 1 - y));
+  const State& s = *state_;
+  Image image;
+  image.width = s.frame_width;
+  image.height = s.frame_height;
+  image.rgb = read_frame<uint8_t>(s.framebuffer, s.frame_width, s.frame_height, GL_RGB,
+                                  GL_UNSIGNED_BYTE, 3);
   return image;
 }
 

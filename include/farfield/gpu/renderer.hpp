@@ -76,6 +76,9 @@ class Renderer final : public Device {
   // The alpha channel of the last frame, rows from the top: the clear colour's alpha where
   // nothing was drawn (see set_clear_alpha), the surfaces' coverage elsewhere.
   std::vector<uint8_t> capture_alpha();
+  // The depth buffer of the last frame, rows from the top: reversed-Z (1 at the near plane,
+  // 0 where nothing was drawn), as the projection put it.
+  std::vector<float> capture_depth();
   // How scene textures are sampled: trilinear from their mipmaps (the default), or the
   // nearest texel (for comparisons with a CPU ray cast).
   enum class TextureFilter { trilinear, nearest };

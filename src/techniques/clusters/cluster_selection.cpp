@@ -15,10 +15,12 @@ bool inside(const Bounds3& box, const Bounds3& region) {
 
 }  // namespace
 
-ClusterSelection::ClusterSelection(const Scene& scene, const ClusterTree& tree, const LodSet& lods)
+ClusterSelection::ClusterSelection(const Scene& scene, const ClusterTree& tree, const LodSet& lods,
+                                   const BoxSet* boxes)
     : scene_(scene),
       tree_(tree),
       lods_(lods),
+      boxes_(boxes && !boxes->boxes.empty() ? boxes : nullptr),
       state_(tree.nodes.size(), unseen),
       last_state_(tree.nodes.size(), unseen),
       wanted_(tree.nodes.size(), 0),
@@ -91,11 +93,13 @@ float ClusterSelection::projected(float error_m, float distance) const {
 }
 
 uint64_t ClusterSelection::object_triangles(uint32_t object, uint32_t level) const {
+  if (level == kBox) return box_triangles(object_box(object));
   return level == kWhole ? scene_.objects[object].index_count / 3
                          : lods_.lods[level].index_count / 3;
 }
 
-float ClusterSelection::lod_error(uint32_t level) const {
+float ClusterSelection::object_error(uint32_t object, uint32_t level) const {
+  if (level == kBox) return box_error(object_box(object));
   return level == kWhole ? 0.0f : lods_.lods[level].error_m;
 }
 
@@ -131,13 +135,22 @@ void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats)
     const ClusterNode& node = tree_.nodes[n];
     const Seen seen = see_node(n);
     if (!seen.visible) continue;
-    if (node.clustered() && seen.clusterable &&
-        projected(node.error_m, seen.distance) <= view_->error_px) {
-      set_state(n, as_cluster);
-      out.push_back({Choice::Kind::cluster, n});
-      stats.triangles += node.triangles;
-      take(projected(node.error_m, seen.distance));
-      continue;
+    if (node.clustered() && seen.clusterable) {
+      const uint32_t box = node_box(n);
+      if (box != BoxSet::kNone && projected(box_error(box), seen.distance) <= view_->error_px) {
+        set_state(n, as_cluster);
+        out.push_back({Choice::Kind::box, box});
+        stats.triangles += box_triangles(box);
+        take(projected(box_error(box), seen.distance));
+        continue;
+      }
+      if (projected(node.error_m, seen.distance) <= view_->error_px) {
+        set_state(n, as_cluster);
+        out.push_back({Choice::Kind::cluster, n});
+        stats.triangles += node.triangles;
+        take(projected(node.error_m, seen.distance));
+        continue;
+      }
     }
     if (node.clustered()) set_state(n, refined);
     for (uint32_t k = node.objects_begin; k < node.own_end; ++k) {
@@ -145,14 +158,19 @@ void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats)
       const Seen o = see_object(object);
       if (!o.visible) continue;
       uint32_t level = kWhole;
-      for (uint32_t l = lods_.first_lod[object]; l < lods_.first_lod[object + 1]; ++l) {
-        if (lods_.lods[l].error_m > allowed * o.distance) break;
-        level = l;
-      }
-      out.push_back(level == kWhole ? Choice{Choice::Kind::whole, object}
-                                    : Choice{Choice::Kind::lod, level});
+      const uint32_t box = object_box(object);
+      if (box != BoxSet::kNone && box_error(box) <= allowed * o.distance)
+        level = kBox;
+      else
+        for (uint32_t l = lods_.first_lod[object]; l < lods_.first_lod[object + 1]; ++l) {
+          if (lods_.lods[l].error_m > allowed * o.distance) break;
+          level = l;
+        }
+      out.push_back(level == kBox     ? Choice{Choice::Kind::box, box}
+                    : level == kWhole ? Choice{Choice::Kind::whole, object}
+                                      : Choice{Choice::Kind::lod, level});
       stats.triangles += object_triangles(object, level);
-      take(projected(lod_error(level), o.distance));
+      take(projected(object_error(object, level), o.distance));
     }
     for (uint32_t c = node.child_count; c-- > 0;) stack_.push_back(node.first_child + c);
   }
@@ -173,8 +191,13 @@ double ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<Item
     const Seen seen = see_node(n);
     if (!seen.visible) continue;
     if ((use_cluster || n != first) && node.clustered() && seen.clusterable) {
-      const double cost = node.triangles + per_draw * double(node.parts_end - node.parts_begin);
-      into.push_back({n, kNone, 0, seen.distance, node.triangles, cost, true});
+      const uint32_t box = node_box(n);
+      const uint64_t triangles = box != BoxSet::kNone ? box_triangles(box) : node.triangles;
+      const double cost = box != BoxSet::kNone
+                              ? double(triangles) + per_draw
+                              : triangles + per_draw * double(node.parts_end - node.parts_begin);
+      into.push_back(
+          {n, kNone, box != BoxSet::kNone ? kBox : 0, seen.distance, triangles, cost, true});
       total += cost;
       continue;
     }
@@ -183,7 +206,9 @@ double ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<Item
       const Seen o = see_object(object);
       if (!o.visible) continue;
       const uint32_t begin = lods_.first_lod[object], end = lods_.first_lod[object + 1];
-      const uint32_t level = end > begin ? end - 1 : kWhole;
+      const uint32_t level = object_box(object) != BoxSet::kNone ? kBox
+                             : end > begin                       ? end - 1
+                                                                 : kWhole;
       const uint64_t triangles = object_triangles(object, level);
       into.push_back({n, object, level, o.distance, triangles, triangles + per_draw, true});
       total += triangles + per_draw;
@@ -199,8 +224,11 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
   heap_.clear();
   stack_.clear();
   auto key = [&](const Item& item) {
-    return item.object == kNone ? projected(tree_.nodes[item.node].error_m, item.distance)
-                                : projected(lod_error(item.level), item.distance);
+    if (item.object != kNone)
+      return projected(object_error(item.object, item.level), item.distance);
+    return projected(
+        item.level == kBox ? box_error(node_box(item.node)) : tree_.nodes[item.node].error_m,
+        item.distance);
   };
   auto refinable = [&](const Item& item) { return item.object == kNone || item.level != kWhole; };
   auto push = [&](uint32_t id) {
@@ -216,6 +244,21 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     heap_.pop_back();
     Item& item = items_[id];
     if (item.object == kNone) {
+      const ClusterNode& node = tree_.nodes[item.node];
+      // A box into its cluster mesh where that is finer; no hysteresis: the node stays drawn
+      // as a cluster.
+      if (item.level == kBox && node.error_m < box_error(node_box(item.node))) {
+        const double mesh_cost =
+            node.triangles + view_->triangles_per_draw * double(node.parts_end - node.parts_begin);
+        const double more = mesh_cost - item.cost;
+        if (more > 0 && cost + more > budget && item.distance > 0.0f) continue;
+        cost += more;
+        item.level = 0;
+        item.triangles = node.triangles;
+        item.cost = mesh_cost;
+        push(id);
+        continue;
+      }
       opened_.clear();
       const double more = open(item.node, false, opened_) - item.cost;
       // A refinement that does not fit is skipped (a cheaper one may still fit); one that
@@ -248,7 +291,17 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
       }
       continue;
     }
-    const uint32_t finer = item.level == lods_.first_lod[item.object] ? kWhole : item.level - 1;
+    const uint32_t begin = lods_.first_lod[item.object];
+    uint32_t finer = kWhole;
+    if (item.level == kBox) {  // the coarsest level finer than the box, else the whole
+      const float box = box_error(object_box(item.object));
+      for (uint32_t l = lods_.first_lod[item.object + 1]; l-- > begin;)
+        if (lods_.lods[l].error_m < box) {
+          finer = l;
+          break;
+        }
+    } else if (item.level != begin)
+      finer = item.level - 1;
     const uint64_t triangles = object_triangles(item.object, finer);
     const double more = double(triangles) - double(item.triangles);  // the same one draw
     if (more > 0 && cost + more > budget) continue;
@@ -262,8 +315,11 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     if (!item.live) continue;
     if (item.object == kNone) {
       if (state_[item.node] != held) set_state(item.node, as_cluster);
-      out.push_back({Choice::Kind::cluster, item.node});
-    } else if (item.level == kWhole)
+      out.push_back(item.level == kBox ? Choice{Choice::Kind::box, node_box(item.node)}
+                                       : Choice{Choice::Kind::cluster, item.node});
+    } else if (item.level == kBox)
+      out.push_back({Choice::Kind::box, object_box(item.object)});
+    else if (item.level == kWhole)
       out.push_back({Choice::Kind::whole, item.object});
     else
       out.push_back({Choice::Kind::lod, item.level});

@@ -61,6 +61,22 @@ constexpr SettingSpec kSettings[] = {
      .min = 1,
      .max = 1e7,
      .baked = true},
+    {.key = "boxes",
+     .type = SettingType::flag,
+     .default_value = "1",
+     .help = "bake textured boxes of objects and clusters (paper 001, Sec. 5.1): each rendered "
+             "onto the sides of its bounding box, drawn as up to 12 triangles where the deepest "
+             "surface a side shows projects below the error",
+     .baked = true},
+    {.key = "box_texels",
+     .type = SettingType::number,
+     .default_value = "64",
+     .help = "the boxes' texels together, millions (RGBA8: 4 bytes each and a third more for "
+             "mipmaps; paper 001 kept 1)",
+     .unit = "Mtexel",
+     .min = 0.01,
+     .max = 4096,
+     .baked = true},
     {.key = "traversal",
      .type = SettingType::choice,
      .default_value = "refined",
@@ -105,7 +121,8 @@ const TechniqueDescriptor clusters_descriptor{
     .paper = "001",
     .settings = kSettings,
     .bake = BakeUse::optional,
-    .bake_format = 3,
+    .bake_format = 4,
+    .bake_renders = true,
     .make = [](const SettingValues& v,
                const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       ClustersOptions o;
@@ -117,6 +134,8 @@ const TechniqueDescriptor clusters_descriptor{
       o.tree.cluster_triangles = uint32_t(v.integer("cluster_triangles"));
       o.tree.loose = float(v.number("loose"));
       o.tree.threads = o.lods.threads;
+      o.boxes = v.flag("boxes");
+      o.box.max_texels = v.number("box_texels") * 1e6;
       o.hysteresis = v.integer("hysteresis");
       o.occlusion = v.flag("occlusion");
       o.hysteresis_rule =
@@ -143,12 +162,22 @@ Result<void> ClustersTechnique::bake(const BakeContext& context) {
   if (!lods) return make_error("clusters: ", lods.error().message);
   auto tree = build_cluster_tree(context.scene, options_.tree, context.progress, &context.store);
   if (!tree) return make_error("clusters: ", tree.error().message);
+  BoxSet boxes;
+  if (options_.boxes && context.renderer) {
+    auto baked =
+        bake_box_set(context.scene, *tree, *context.renderer, options_.box, context.progress);
+    if (!baked) return make_error("clusters: ", baked.error().message);
+    boxes = std::move(*baked);
+  }
   if (auto ok = save_lod_set(*lods, context.store); !ok) return ok;
   if (auto ok = save_cluster_tree(*tree, context.store); !ok) return ok;
+  if (auto ok = save_box_set(boxes, context.store); !ok) return ok;
   if (auto erased = context.store.erase("clusters/work/"); !erased) return erased.error();
   lods_ = std::move(*lods);
   tree_ = std::move(*tree);
   clusters_ = count_clusters(tree_);
+  box_texels_ = boxes.texels();
+  boxes_ = std::move(boxes);
   return {};
 }
 
@@ -166,19 +195,25 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
     if (!lods) return lods.error();
     auto tree = load_cluster_tree(*context.store, context.scene);
     if (!tree) return tree.error();
-    return use(std::move(*lods), std::move(*tree), context.scene, context.device);
+    auto boxes = load_box_set(*context.store, context.scene, *tree);
+    if (!boxes) return boxes.error();
+    return use(std::move(*lods), std::move(*tree), std::move(*boxes), context.scene,
+               context.device);
   }
   auto lods = build_lod_set(context.scene, options_.lods, context.progress);
   if (!lods) return make_error("clusters: ", lods.error().message);
   auto tree = build_cluster_tree(context.scene, options_.tree, context.progress);
   if (!tree) return make_error("clusters: ", tree.error().message);
-  return use(std::move(*lods), std::move(*tree), context.scene, context.device);
+  // Boxes are rendered by a bake; without one there are none.
+  return use(std::move(*lods), std::move(*tree), BoxSet{}, context.scene, context.device);
 }
 
-Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, const Scene& scene,
+Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes, const Scene& scene,
                                     gpu::Device& device) {
   lods_ = std::move(lods);
   tree_ = std::move(tree);
+  boxes_ = std::move(boxes);
+  box_texels_ = boxes_.texels();
   scene_ = &scene;
   clusters_ = count_clusters(tree_);
   if (tree_.objects.size() == scene.objects.size()) order_lods_by_level(lods_, tree_.objects);
@@ -194,10 +229,24 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, const Scene& 
     if (!mesh) return make_error("clusters: ", mesh.error().message);
     cluster_mesh_ = *mesh;
   }
-  selection_ = std::make_unique<ClusterSelection>(scene, tree_, lods_);
+  box_meshes_.clear();
+  box_textures_.clear();
+  boxes_uploaded_ = upload_frame_ = false;
+  {
+    BoxMeshes meshes = box_meshes(boxes_);
+    for (const TexturedMesh& page : meshes.pages) {
+      auto mesh = resources_.textured_mesh(page.vertices, page.indices);
+      if (!mesh) return make_error("clusters: ", mesh.error().message);
+      box_meshes_.push_back(*mesh);
+      box_textures_.push_back(resources_.texture());
+    }
+    box_first_ = std::move(meshes.first_index);
+    box_count_ = std::move(meshes.index_count);
+  }
+  selection_ = std::make_unique<ClusterSelection>(scene, tree_, lods_, &boxes_);
   full_ = std::make_unique<ObjectSet>(scene);
   occluders_ = options_.occlusion ? std::make_unique<Occluders>(scene) : nullptr;
-  frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = switches_ = 0;
+  frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = switches_ = boxes_drawn_ = 0;
   cost_ = {};
   return {};
 }
@@ -224,8 +273,12 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   // frames measured so far predicts will fit, a tenth of the budget held back; before any
   // frame was measured there is no model, and the error rule decides. The model learns from
   // every frame, so that it predicts each frame's time (bench's predicted_ms) in both modes.
-  cost_.observe(double(input.budget.last_triangles), double(input.budget.last_draw_calls),
-                input.budget.last_frame_ms);
+  // The frame that took the boxes' pages to the renderer timed their upload and mipmaps
+  // (a second and more), not its drawing: it is not learnt from.
+  if (!upload_frame_)
+    cost_.observe(double(input.budget.last_triangles), double(input.budget.last_draw_calls),
+                  input.budget.last_frame_ms);
+  upload_frame_ = false;
   if (input.budget.target_ms > 0.0 && cost_.ready()) {
     sv.max_triangles = cost_.triangles_within(0.9 * input.budget.target_ms);
     sv.triangles_per_draw = cost_.triangles_per_draw();
@@ -266,12 +319,45 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
         ++full_drawn_;
         full_->insert(c.index);
         break;
+      case Choice::Kind::box:
+        ++boxes_drawn_;
+        boxes_chosen_.push_back(c.index);
+        break;
     }
   }
   full_->emit(out);  // the whole objects, in scene order
+  const size_t meshes_before = out.meshes.size();
+  add_boxes(out);
   if (cost_.ready())
-    out.predicted_ms = cost_.predict_ms(double(stats.triangles),
-                                        double(out.opaque.size() + out.transparent.size()));
+    out.predicted_ms = cost_.predict_ms(
+        double(stats.triangles),
+        double(out.opaque.size() + out.transparent.size() + out.meshes.size() - meshes_before));
+}
+
+// The chosen boxes by page, neighbours in a page one draw; the pages' pixels go to the
+// renderer with the first frame (the list keeps them until it is drawn).
+void ClustersTechnique::add_boxes(DrawList& out) {
+  if (!boxes_uploaded_ && !boxes_.pages.empty()) {
+    for (size_t p = 0; p < boxes_.pages.size(); ++p) {
+      auto pixels = std::make_shared<std::vector<uint8_t>>(std::move(boxes_.pages[p]));
+      out.uploads.push_back(
+          {box_textures_[p], boxes_.page_px, boxes_.page_px, 4, pixels->data(), pixels, true});
+    }
+    boxes_.pages.clear();
+    boxes_uploaded_ = upload_frame_ = true;
+  }
+  std::sort(boxes_chosen_.begin(), boxes_chosen_.end());
+  const size_t first = out.meshes.size();
+  for (uint32_t b : boxes_chosen_) {
+    const uint32_t page = boxes_.boxes[b].page;
+    const MeshHandle mesh = box_meshes_[page];
+    if (out.meshes.size() > first && out.meshes.back().mesh == mesh &&
+        out.meshes.back().first_index + out.meshes.back().index_count == box_first_[b])
+      out.meshes.back().index_count += box_count_[b];
+    else
+      out.meshes.push_back({mesh, box_first_[b], box_count_[b], box_textures_[page]});
+  }
+  boxes_chosen_.clear();
 }
 
 void ClustersTechnique::tint(DrawList& list) const {
@@ -283,10 +369,11 @@ void ClustersTechnique::tint(DrawList& list) const {
 std::string ClustersTechnique::describe() const {
   return formatted(
       "%zu levels of detail for %zu objects (%llu triangles), %zu nodes of which %zu clusters "
-      "(%llu triangles)",
+      "(%llu triangles), %zu textured boxes (%.1f Mtexel, %.3f m a texel on average)",
       lods_.lods.size(), lods_.first_lod.empty() ? size_t(0) : lods_.first_lod.size() - 1,
       (unsigned long long)(lods_.indices.size() / 3), tree_.nodes.size(), clusters_,
-      (unsigned long long)tree_.triangle_count());
+      (unsigned long long)tree_.triangle_count(), boxes_.boxes.size(), double(box_texels_) / 1e6,
+      boxes_.mean_texel_m());
 }
 
 std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
@@ -299,6 +386,9 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
           {"mean_clusters_drawn", mean(clusters_drawn_)},
           {"mean_objects_as_lods", mean(lods_drawn_)},
           {"mean_objects_full", mean(full_drawn_)},
+          {"boxes", double(boxes_.boxes.size())},
+          {"box_texels", double(box_texels_)},
+          {"mean_boxes_drawn", mean(boxes_drawn_)},
           {"mean_visited", mean(visited_)},
           {"switches", double(switches_)},
           {"cost_fixed_ms", cost_.fixed_ms()},

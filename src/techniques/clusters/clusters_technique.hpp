@@ -1,5 +1,6 @@
-// clusters: paper 001's walk over its cluster hierarchy (cluster_tree.hpp): clusters'
-// merged meshes, objects' levels of detail (lod_set.hpp) and whole objects, chosen by
+// clusters: paper 001's walk over its cluster hierarchy (cluster_tree.hpp): textured boxes of
+// clusters and objects (box_set.hpp, from a bake), clusters' merged meshes, objects' levels
+// of detail (lod_set.hpp) and whole objects, chosen by
 // cluster_selection.hpp: without a frame-time budget the coarsest whose geometric error
 // projects below `clusters.error_px` pixels (the screen-space error rule of 3D Tiles); under
 // the engine's budget (bench --budget-ms) the paper's best-first refinement (Sec. 4.5.2),
@@ -25,6 +26,8 @@ extern const TechniqueDescriptor clusters_descriptor;
 struct ClustersOptions {
   LodSetOptions lods;
   ClusterTreeOptions tree;
+  bool boxes = true;  // bake textured boxes
+  BoxSetOptions box;
   float error_px = 1.0f;  // the largest projected geometric error, pixels
   ClusterTraversal traversal = ClusterTraversal::refined;
   int hysteresis = 4;  // frames (paper 001, Sec. 4.6)
@@ -45,13 +48,23 @@ class ClustersTechnique final : public Technique {
   void tint(DrawList& list) const override;
 
  private:
-  Result<void> use(LodSet lods, ClusterTree tree, const Scene& scene, gpu::Device& device);
+  Result<void> use(LodSet lods, ClusterTree tree, BoxSet boxes, const Scene& scene,
+                   gpu::Device& device);
+  void add_boxes(DrawList& out);
 
   ClustersOptions options_;
   const Scene* scene_ = nullptr;
   LodSet lods_;
   ClusterTree tree_;
   size_t clusters_ = 0;  // nodes of tree_ with a cluster
+  BoxSet boxes_;         // its pages go to the renderer with the first frame
+  uint64_t box_texels_ = 0;
+  std::vector<MeshHandle> box_meshes_;  // per page
+  std::vector<TextureHandle> box_textures_;
+  std::vector<uint32_t> box_first_, box_count_;  // per box: its indices in its page's mesh
+  std::vector<uint32_t> boxes_chosen_;
+  bool boxes_uploaded_ = false;
+  bool upload_frame_ = false;  // the last frame uploaded the pages
   gpu::OwnedResources resources_;
   MeshHandle lod_mesh_, cluster_mesh_;  // lods_ and tree_'s clusters as scene meshes
   std::unique_ptr<ClusterSelection> selection_;
@@ -62,6 +75,7 @@ class ClustersTechnique final : public Technique {
   FrameCostModel cost_;  // budget mode: fitted to measured frames
   // figures()
   uint64_t frames_ = 0, clusters_drawn_ = 0, lods_drawn_ = 0, full_drawn_ = 0, visited_ = 0;
+  uint64_t boxes_drawn_ = 0;
   uint64_t switches_ = 0;
 };
 

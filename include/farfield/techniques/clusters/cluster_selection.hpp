@@ -1,14 +1,18 @@
 // What the clusters technique draws in a frame, chosen over the cluster hierarchy (paper 001,
-// Sec. 4.5) without GL, so that tests can check it on hand-made hierarchies:
-//  - by error (no budget): from the root down, a cluster wherever its geometric error projects
-//    below `error_px` pixels, else its objects (each as the coarsest level of detail under
-//    that error, or whole) and its children;
+// Sec. 4.5) without GL, so that tests can check it on hand-made hierarchies. A node's
+// representations, coarsest first: its textured box (box_set.hpp), its cluster mesh (skipped
+// where the box's error is no larger), then its objects and children; an object's: its box,
+// its levels of detail (those of no less error than the box skipped), the object whole.
+//  - by error (no budget): from the root down, a node's box or cluster wherever its error
+//    projects below `error_px` pixels, else its objects (each as the coarsest
+//    representation under that error, or whole) and its children;
 //  - under a budget of triangles (the frame-time budget through the cost model, each draw
 //    counted as the triangles it costs as much as): the paper's
 //    best-first refinement (Sec. 4.5.2): a complete coarsest representation of what the
-//    frustum sees first (the root's cluster), then the representation whose error covers
-//    the most pixels refined (a cluster into its objects and children, an object one level
-//    finer) while the triangles stay within the budget, so that every step is complete.
+//    frustum sees first (the root's box or cluster), then the representation whose error
+//    covers the most pixels refined (a box into its cluster, a cluster into its objects and
+//    children, an object one level finer) while the triangles stay within the budget, so
+//    that every step is complete.
 // Two traversals: `refined` (the default) visits only the nodes it refines and their children,
 // from bounds stored per node; `paper` first classifies every node and object of the scene
 // (Sec. 4.5.1's first pass over all objects, O(n), which Sec. 6 names the method's limit),
@@ -30,6 +34,7 @@
 #include "farfield/core/frustum.hpp"
 #include "farfield/scene/scene.hpp"
 #include "farfield/spatial/occlusion_map.hpp"
+#include "farfield/techniques/clusters/box_set.hpp"
 #include "farfield/techniques/clusters/cluster_tree.hpp"
 #include "farfield/techniques/clusters/lod_set.hpp"
 
@@ -51,11 +56,12 @@ struct SelectionView {
   const OcclusionMap* occlusion = nullptr;  // what it hides is not drawn, if given
 };
 
-// One thing to draw: a cluster's mesh, an object's level of detail, or an object whole.
+// One thing to draw: a cluster's mesh, an object's level of detail, an object whole, or a
+// textured box (an object's or a cluster's).
 struct Choice {
-  enum class Kind : uint8_t { cluster, lod, whole };
+  enum class Kind : uint8_t { cluster, lod, whole, box };
   Kind kind;
-  uint32_t index;  // node, into LodSet::lods, or object
+  uint32_t index;  // node, into LodSet::lods, object, or into BoxSet::boxes
 };
 
 struct SelectionStats {
@@ -68,16 +74,18 @@ struct SelectionStats {
 
 class ClusterSelection {
  public:
-  // All three outlive the selection.
-  ClusterSelection(const Scene& scene, const ClusterTree& tree, const LodSet& lods);
+  // All outlive the selection; `boxes` may be null (no textured boxes).
+  ClusterSelection(const Scene& scene, const ClusterTree& tree, const LodSet& lods,
+                   const BoxSet* boxes = nullptr);
   // This frame's choices (replacing `out`'s).
   SelectionStats select(const SelectionView& view, ClusterTraversal traversal,
                         std::vector<Choice>& out);
 
  private:
   static constexpr uint32_t kWhole = UINT32_MAX;
-  // A representation in the budget's front: a cluster (object == kNone) or an object at a
-  // level (kWhole: whole).
+  static constexpr uint32_t kBox = UINT32_MAX - 1;
+  // A representation in the budget's front: a node (object == kNone) as its cluster (level
+  // 0) or its box (kBox), or an object at a level (into LodSet::lods, kBox, or kWhole).
   static constexpr uint32_t kNone = UINT32_MAX;
   struct Item {
     uint32_t node, object, level;
@@ -96,7 +104,13 @@ class ClusterSelection {
   void classify_all();
   float projected(float error_m, float distance) const;
   uint64_t object_triangles(uint32_t object, uint32_t level) const;
-  float lod_error(uint32_t level) const;  // 0 for kWhole
+  float object_error(uint32_t object, uint32_t level) const;  // 0 for kWhole
+  uint32_t object_box(uint32_t object) const {
+    return boxes_ ? boxes_->object_box[object] : BoxSet::kNone;
+  }
+  uint32_t node_box(uint32_t node) const { return boxes_ ? boxes_->node_box[node] : BoxSet::kNone; }
+  float box_error(uint32_t box) const { return boxes_->boxes[box].error_m; }
+  uint64_t box_triangles(uint32_t box) const { return 2 * boxes_->boxes[box].side_count(); }
   void by_error(std::vector<Choice>& out, SelectionStats& stats);
   void under_budget(std::vector<Choice>& out, SelectionStats& stats);
   // The coarsest complete representation of a node's visible content, appended to `into`.
@@ -105,6 +119,7 @@ class ClusterSelection {
   const Scene& scene_;
   const ClusterTree& tree_;
   const LodSet& lods_;
+  const BoxSet* boxes_;
   // A node's part in a frame, for temporal coherence.
   enum State : uint8_t { unseen = 0, as_cluster, held, refined };
   void set_state(uint32_t node, State state);

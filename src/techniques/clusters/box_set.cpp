@@ -1,0 +1,393 @@
+#include "farfield/techniques/clusters/box_set.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "farfield/core/shelf_packer.hpp"
+#include "farfield/core/text.hpp"
+#include "farfield/gpu/renderer.hpp"
+#include "farfield/store/blob_array.hpp"
+#include "farfield/store/store.hpp"
+#include "farfield/techniques/object_set.hpp"
+
+namespace farfield {
+
+namespace {
+
+constexpr const char* kBoxes = "clusters/boxes";
+constexpr const char* kObjectBoxes = "clusters/box_of_objects";
+constexpr const char* kNodeBoxes = "clusters/box_of_nodes";
+constexpr const char* kPagePrefix = "clusters/box_page_";
+constexpr int kGutter = 2;  // free texels beside each side, so that mipmaps bleed less
+
+// A side's frame: its outward normal, and the image's right and up directions (right x up =
+// normal, so that the quad is counter-clockwise seen from outside).
+struct SideFrame {
+  glm::vec3 normal, right, up;
+};
+SideFrame side_frame(int side) {
+  static const glm::vec3 kNormals[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                        {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+  static const glm::vec3 kUps[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1},
+                                    {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
+  const glm::vec3 n = kNormals[side], u = kUps[side];
+  return {n, glm::cross(-n, u), u};
+}
+
+// Half the side's extent along its right and up directions, and the box's depth behind it.
+struct SideExtent {
+  float half_width, half_height, depth;
+};
+SideExtent side_extent(const Bounds3& box, int side) {
+  const SideFrame f = side_frame(side);
+  const glm::vec3 half = 0.5f * box.size();
+  return {std::abs(glm::dot(half, f.right)), std::abs(glm::dot(half, f.up)),
+          2.0f * std::abs(glm::dot(half, f.normal))};
+}
+
+int side_px(float length_m, float texel_m, const BoxSetOptions& o) {
+  return std::clamp(int(std::ceil(length_m / texel_m)), o.min_side_px, o.max_side_px);
+}
+
+// A side with no area (a flat object seen edge on) is never drawn.
+bool side_has_area(const SideExtent& e, const Bounds3& box) {
+  const float scale = std::max(1e-6f * glm::length(box.size()), 1e-9f);
+  return e.half_width > scale && e.half_height > scale;
+}
+
+struct Subject {
+  uint32_t object = BoxSet::kNone, node = BoxSet::kNone;  // one of them
+  Bounds3 bounds;
+};
+
+// Objects and clusters depth first (a node's own objects after it), so that neighbours in the
+// hierarchy are neighbours in the pages.
+std::vector<Subject> subjects_of(const Scene& scene, const ClusterTree& tree,
+                                 const BoxSetOptions& o) {
+  std::vector<Subject> out;
+  if (tree.nodes.empty()) return out;
+  std::vector<uint32_t> stack{0};
+  while (!stack.empty()) {
+    const uint32_t n = stack.back();
+    stack.pop_back();
+    const ClusterNode& node = tree.nodes[n];
+    if (node.clustered()) out.push_back({BoxSet::kNone, n, node.bounds});
+    for (uint32_t k = node.objects_begin; k < node.own_end; ++k) {
+      const uint32_t object = tree.objects[k];
+      const Object& obj = scene.objects[object];
+      const Material& m = scene.materials[obj.material];
+      if (obj.index_count / 3 >= o.min_triangles && !m.transparent() && !obj.bounds.empty())
+        out.push_back({object, BoxSet::kNone, obj.bounds});
+    }
+    for (uint32_t c = node.child_count; c-- > 0;) stack.push_back(node.first_child + c);
+  }
+  return out;
+}
+
+float longest(const Bounds3& box) {
+  const glm::vec3 s = box.size();
+  return std::max({s.x, s.y, s.z, 1e-6f});
+}
+
+// Per subject the texel size, metres: as fine as max_side_px allows where the texel budget
+// permits; where it does not, coarser in proportion to the box's error (a box is drawn where
+// its error projects below clusters.error_px, so the boxes of large error are seen from
+// farthest), with a sixty-fourth of its size standing in for an error near 0.
+std::vector<float> texel_sizes(const std::vector<Subject>& subjects,
+                               const std::vector<float>& errors, const BoxSetOptions& o) {
+  auto sizes = [&](double share) {
+    std::vector<float> texel(subjects.size());
+    for (size_t k = 0; k < subjects.size(); ++k) {
+      const float size = longest(subjects[k].bounds);
+      texel[k] =
+          std::max(size / float(o.max_side_px), float(share) * std::max(errors[k], size / 64.0f));
+    }
+    return texel;
+  };
+  auto fits = [&](double share) {
+    const std::vector<float> texel = sizes(share);
+    double sum = 0;
+    for (size_t k = 0; k < subjects.size(); ++k)
+      for (int side = 0; side < 6; ++side) {
+        const SideExtent e = side_extent(subjects[k].bounds, side);
+        if (side_has_area(e, subjects[k].bounds))
+          sum += double(side_px(2 * e.half_width, texel[k], o)) *
+                 side_px(2 * e.half_height, texel[k], o);
+      }
+    return sum <= o.max_texels;
+  };
+  if (fits(0.0)) return sizes(0.0);
+  double fine = 0.0, coarse = 1.0;
+  while (!fits(coarse) && coarse < 1e6) coarse *= 2.0;
+  for (int step = 0; step < 30; ++step) {
+    const double mid = 0.5 * (fine + coarse);
+    (fits(mid) ? coarse : fine) = mid;
+  }
+  return sizes(coarse);
+}
+
+// Orthographic, reversed-Z (the renderer's: 1 at the near plane), looking at a side from
+// `margin` outside it.
+glm::mat4 side_view_projection(const Bounds3& box, int side, float margin, float near_m,
+                               float far_m) {
+  const SideFrame f = side_frame(side);
+  const SideExtent e = side_extent(box, side);
+  const glm::vec3 face_centre = box.center() + f.normal * (0.5f * e.depth);
+  const glm::vec3 eye = face_centre + f.normal * margin;
+  const glm::mat4 view = glm::lookAtRH(eye, face_centre, f.up);
+  // glm's ZO projection maps its near argument to 0: the planes swapped give reversed Z.
+  const glm::mat4 projection =
+      glm::orthoRH_ZO(-e.half_width, e.half_width, -e.half_height, e.half_height, far_m, near_m);
+  return projection * view;
+}
+
+}  // namespace
+
+uint32_t TexturedBox::side_count() const {
+  uint32_t n = 0;
+  for (const BoxSide& s : sides) n += s.w > 0;
+  return n;
+}
+
+double BoxSet::mean_texel_m() const {
+  double sum = 0;
+  uint64_t sides = 0;
+  for (const TexturedBox& b : boxes)
+    for (int side = 0; side < 6; ++side)
+      if (b.sides[side].w > 0) {
+        sum += 2.0 * side_extent(b.bounds, side).half_width / b.sides[side].w;
+        ++sides;
+      }
+  return sides ? sum / double(sides) : 0.0;
+}
+
+uint64_t BoxSet::texels() const {
+  uint64_t n = 0;
+  for (const TexturedBox& b : boxes)
+    for (const BoxSide& s : b.sides) n += uint64_t(s.w) * s.h;
+  return n;
+}
+
+namespace {
+
+struct SideImage {
+  int w = 0, h = 0;
+  std::vector<uint8_t> rgba;  // empty: nothing drawn on the side
+};
+
+// One side rendered at its size for `texel_m`; returns the depth of the deepest surface it
+// shows behind the side (0 for an empty side).
+float render_side(gpu::Renderer& renderer, const DrawList& list, const Bounds3& box, int side,
+                  float texel_m, const BoxSetOptions& o, SideImage& image) {
+  image = {};
+  const SideExtent e = side_extent(box, side);
+  if (!side_has_area(e, box)) return 0.0f;
+  const int w = side_px(2 * e.half_width, texel_m, o), h = side_px(2 * e.half_height, texel_m, o);
+  const float margin = 0.01f * glm::length(box.size()) + 0.01f;
+  const float near_m = 0.5f * margin, far_m = e.depth + 2.0f * margin;
+  renderer.set_offscreen(w, h);
+  renderer.draw_with(side_view_projection(box, side, margin, near_m, far_m), w, h, list);
+  const Image rgb = renderer.capture();
+  const std::vector<uint8_t> alpha = renderer.capture_alpha();
+  const std::vector<float> depth = renderer.capture_depth();
+  float deepest = 0.0f;
+  bool any = false;
+  std::vector<uint8_t> rgba(alpha.size() * 4);
+  for (size_t p = 0; p < alpha.size(); ++p) {
+    std::copy_n(&rgb.rgb[3 * p], 3, &rgba[4 * p]);
+    rgba[4 * p + 3] = alpha[p];
+    if (alpha[p] == 0) continue;
+    any = true;
+    // Reversed Z, linear in an orthographic view: the distance from the eye, less the margin.
+    deepest = std::max(deepest, far_m - depth[p] * (far_m - near_m) - margin);
+  }
+  if (any) image = {w, h, std::move(rgba)};
+  return deepest;
+}
+
+void draw_list_of(const Subject& s, const ClusterTree& tree, ObjectSet& objects, DrawList& list) {
+  objects.clear();
+  if (s.object != BoxSet::kNone)
+    objects.insert(s.object);
+  else
+    for (uint32_t k = tree.nodes[s.node].objects_begin; k < tree.nodes[s.node].objects_end; ++k)
+      objects.insert(tree.objects[k]);
+  list.clear();
+  objects.emit(list);
+}
+
+}  // namespace
+
+Result<BoxSet> bake_box_set(const Scene& scene, const ClusterTree& tree, gpu::Renderer& renderer,
+                            const BoxSetOptions& options, Progress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  if (options.max_side_px + kGutter > options.page_px || options.min_side_px < 1 ||
+      options.min_side_px > options.max_side_px || options.page_px > 16384)
+    return make_error(formatted("boxes: sides of %d to %d texels do not fit pages of %d",
+                                options.min_side_px, options.max_side_px, options.page_px));
+  BoxSet set;
+  set.page_px = options.page_px;
+  set.object_box.assign(scene.objects.size(), BoxSet::kNone);
+  set.node_box.assign(tree.nodes.size(), BoxSet::kNone);
+  const std::vector<Subject> subjects = subjects_of(scene, tree, options);
+
+  ObjectSet objects(scene);
+  DrawList list;
+  SideImage images[6];
+  renderer.set_clear_alpha(0.0f);
+  progress.start("bake textured boxes", 2 * subjects.size());
+  // First each box's error from small images (32 texels on its longest edge), which sets
+  // its texel size; then its sides at that size.
+  std::vector<float> estimates(subjects.size());
+  for (size_t k = 0; k < subjects.size(); ++k) {
+    draw_list_of(subjects[k], tree, objects, list);
+    const float texel = longest(subjects[k].bounds) / 32.0f;
+    for (int side = 0; side < 6; ++side)
+      estimates[k] = std::max(estimates[k], render_side(renderer, list, subjects[k].bounds, side,
+                                                        texel, options, images[side]));
+    progress.advance();
+  }
+  const std::vector<float> texels = texel_sizes(subjects, estimates, options);
+
+  ShelfPacker packer(options.page_px, kGutter);
+  const size_t page_bytes = size_t(options.page_px) * size_t(options.page_px) * 4;
+  for (size_t k = 0; k < subjects.size(); ++k) {
+    const Subject& s = subjects[k];
+    draw_list_of(s, tree, objects, list);
+    TexturedBox box;
+    box.bounds = s.bounds;
+    std::vector<glm::ivec2> sizes;
+    for (int side = 0; side < 6; ++side) {
+      box.error_m = std::max(box.error_m, render_side(renderer, list, s.bounds, side, texels[k],
+                                                      options, images[side]));
+      if (!images[side].rgba.empty()) sizes.push_back({images[side].w, images[side].h});
+    }
+    progress.advance();
+    if (sizes.empty()) continue;
+    auto at = set.pages.empty() ? std::nullopt : packer.place(sizes);
+    if (!at) {
+      if (!set.pages.empty()) packer.next_page();
+      at = packer.place(sizes);
+      set.pages.emplace_back(page_bytes, 0);
+    }
+    box.page = uint32_t(set.pages.size() - 1);
+    std::vector<uint8_t>& page = set.pages.back();
+    size_t placed = 0;
+    for (int side = 0; side < 6; ++side) {
+      const SideImage& image = images[side];
+      if (image.rgba.empty()) continue;
+      const glm::ivec2 p = (*at)[placed++];
+      box.sides[side] = {uint16_t(p.x), uint16_t(p.y), uint16_t(image.w), uint16_t(image.h)};
+      for (int y = 0; y < image.h; ++y)
+        std::copy_n(&image.rgba[size_t(y) * size_t(image.w) * 4], size_t(image.w) * 4,
+                    &page[(size_t(p.y + y) * size_t(options.page_px) + size_t(p.x)) * 4]);
+    }
+    const uint32_t id = uint32_t(set.boxes.size());
+    set.boxes.push_back(box);
+    (s.object != BoxSet::kNone ? set.object_box[s.object] : set.node_box[s.node]) = id;
+  }
+  progress.finish();
+  renderer.set_clear_alpha(1.0f);
+  renderer.set_offscreen(0, 0);
+  set.bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return set;
+}
+
+BoxMeshes box_meshes(const BoxSet& set) {
+  BoxMeshes out;
+  out.pages.resize(set.pages.size());
+  out.first_index.resize(set.boxes.size());
+  out.index_count.resize(set.boxes.size());
+  const float texel = set.page_px > 0 ? 1.0f / float(set.page_px) : 0.0f;
+  for (size_t b = 0; b < set.boxes.size(); ++b) {
+    const TexturedBox& box = set.boxes[b];
+    TexturedMesh& mesh = out.pages[box.page];
+    out.first_index[b] = uint32_t(mesh.indices.size());
+    for (int side = 0; side < 6; ++side) {
+      const BoxSide& s = box.sides[side];
+      if (s.w == 0) continue;
+      const SideFrame f = side_frame(side);
+      const SideExtent e = side_extent(box.bounds, side);
+      const glm::vec3 c = box.bounds.center() + f.normal * (0.5f * e.depth);
+      const glm::vec3 r = f.right * e.half_width, u = f.up * e.half_height;
+      const float u0 = float(s.x) * texel, v0 = float(s.y) * texel;
+      const float u1 = float(s.x + s.w) * texel, v1 = float(s.y + s.h) * texel;
+      const uint32_t base = uint32_t(mesh.vertices.size());
+      mesh.vertices.push_back({c - r + u, {u0, v0}, 0xffffffffu});  // top left
+      mesh.vertices.push_back({c - r - u, {u0, v1}, 0xffffffffu});  // bottom left
+      mesh.vertices.push_back({c + r - u, {u1, v1}, 0xffffffffu});  // bottom right
+      mesh.vertices.push_back({c + r + u, {u1, v0}, 0xffffffffu});  // top right
+      for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(base + i);
+    }
+    out.index_count[b] = uint32_t(mesh.indices.size()) - out.first_index[b];
+  }
+  return out;
+}
+
+Result<void> save_box_set(const BoxSet& set, Store& store) {
+  auto transaction = store.begin();
+  if (!transaction) return transaction.error();
+  if (auto erased = store.erase("clusters/box"); !erased) return erased.error();
+  if (auto ok = store.put(kBoxes, bytes_of(set.boxes)); !ok) return ok;
+  if (auto ok = store.put(kObjectBoxes, bytes_of(set.object_box)); !ok) return ok;
+  if (auto ok = store.put(kNodeBoxes, bytes_of(set.node_box)); !ok) return ok;
+  for (size_t p = 0; p < set.pages.size(); ++p)
+    if (auto ok = store.put(kPagePrefix + std::to_string(p), bytes_of(set.pages[p])); !ok)
+      return ok;
+  return transaction->commit();
+}
+
+Result<BoxSet> load_box_set(const Store& store, const Scene& scene, const ClusterTree& tree) {
+  BoxSet set;
+  auto present = store.contains(kBoxes);
+  if (!present) return present.error();
+  if (!*present) {
+    set.object_box.assign(scene.objects.size(), BoxSet::kNone);
+    set.node_box.assign(tree.nodes.size(), BoxSet::kNone);
+    return set;
+  }
+  auto inconsistent = [&](const std::string& what) {
+    return make_error(store.path(), ": clusters bake is inconsistent (", what, ")");
+  };
+  auto boxes = read_array<TexturedBox>(store, kBoxes);
+  if (!boxes) return boxes.error();
+  auto object_box = read_array<uint32_t>(store, kObjectBoxes);
+  if (!object_box) return object_box.error();
+  auto node_box = read_array<uint32_t>(store, kNodeBoxes);
+  if (!node_box) return node_box.error();
+  if (object_box->size() != scene.objects.size() || node_box->size() != tree.nodes.size())
+    return inconsistent("textured boxes not of this scene's objects and hierarchy");
+  for (const auto* ids : {&*object_box, &*node_box})
+    for (uint32_t b : *ids)
+      if (b != BoxSet::kNone && b >= boxes->size()) return inconsistent("a box past the boxes");
+  uint32_t pages = 0;
+  for (const TexturedBox& b : *boxes) pages = std::max(pages, b.page + 1);
+  for (uint32_t p = 0; p < pages; ++p) {
+    auto page = read_array<uint8_t>(store, (kPagePrefix + std::to_string(p)).c_str());
+    if (!page) return page.error();
+    const int side = int(std::lround(std::sqrt(double(page->size() / 4))));
+    if (side <= 0 || page->size() != size_t(side) * size_t(side) * 4 ||
+        (set.page_px != 0 && side != set.page_px))
+      return inconsistent(formatted("box page %u is not a square RGBA8 page", p));
+    set.page_px = side;
+    set.pages.push_back(std::move(*page));
+  }
+  for (const TexturedBox& b : *boxes) {
+    if (!(b.error_m >= 0.0f) || !std::isfinite(b.error_m) || b.bounds.empty())
+      return inconsistent("a box's bounds or error");
+    for (const BoxSide& s : b.sides)
+      if (s.w > 0 && (int(s.x) + s.w > set.page_px || int(s.y) + s.h > set.page_px || s.h == 0))
+        return inconsistent("a box's side past its page");
+  }
+  set.boxes = std::move(*boxes);
+  set.object_box = std::move(*object_box);
+  set.node_box = std::move(*node_box);
+  return set;
+}
+
+}  // namespace farfield
