@@ -68,6 +68,7 @@ TEST(BenchGL, WritesEveryFieldAndOctreeMatchesBrute) {
   EXPECT_EQ(octree["summary"]["psnr_db_mean"], octree["summary"]["psnr_ceiling_db"]);
   EXPECT_GT(octree["summary"]["psnr_ceiling_db"], 90.0);
   EXPECT_FALSE(octree["summary"].contains("psnr_db_mean_differing"));
+  EXPECT_FALSE(octree["summary"].contains("psnr_db_pooled"));
   EXPECT_EQ(octree["frames"][0]["psnr_db"], octree["summary"]["psnr_ceiling_db"]);
   EXPECT_LT(octree["summary"]["mean_triangles"],
             json["techniques"][0]["summary"]["mean_triangles"]);
@@ -128,8 +129,19 @@ TEST(BenchGL, ReportsTheBudgetAndPredictedFrameTimes) {
   for (const auto& t : json["techniques"]) {
     EXPECT_GE(t["summary"]["frames_over_budget_1_1x"], 0.0);
     EXPECT_LE(t["summary"]["frames_over_budget_1_1x"], 1.0);
-    EXPECT_NEAR(double(t["summary"]["p99_to_budget"]), double(t["summary"]["p99_ms"]) / 50.0,
-                1e-9);
+    EXPECT_NEAR(double(t["summary"]["p99_to_budget"]), double(t["summary"]["p99_ms"]) / 50.0, 1e-9);
+  }
+  // The pooled PSNR: that of the compared frames' mean squared error (identical frames 0).
+  if (clusters["summary"].contains("psnr_db_pooled")) {
+    double mse = 0;
+    int compared = 0;
+    for (const auto& f : clusters["frames"]) {
+      if (!f.contains("identical")) continue;
+      ++compared;
+      if (!f["identical"]) mse += 255.0 * 255.0 / std::pow(10.0, double(f["psnr_db"]) / 10.0);
+    }
+    EXPECT_NEAR(double(clusters["summary"]["psnr_db_pooled"]),
+                10.0 * std::log10(255.0 * 255.0 * compared / mse), 1e-6);
   }
   const std::string table = format_bench_summary(*report);
   EXPECT_NE(table.find("over_1.1x"), std::string::npos) << table;

@@ -69,6 +69,7 @@ Scene two_shapes() {
 BoxSetOptions every_object() {
   BoxSetOptions o;
   o.min_triangles = 1;
+  o.clusters = true;
   o.page_px = 512;
   o.max_side_px = 64;
   return o;

@@ -431,6 +431,41 @@ TEST(ClusterSelection, BoxesStandForTheirNodesAndObjects) {
   }
 }
 
+// With accuracy tables, a representation's error is the one of the direction it is seen
+// from: a table of no error towards the corner view and a huge one away from it draws the
+// root's cluster alone; the same table turned round draws every object in view whole.
+TEST(ClusterSelection, ImageErrorsAreThoseOfTheDirectionSeenFrom) {
+  const Scene& scene = small_city();
+  const Baked& b = baked();
+  ClusterSelection selection(scene, b.tree, b.lods);
+  const View view = corner_view(2.0f);
+  const Frustum frustum(view);
+  for (bool towards : {true, false}) {
+    SCOPED_TRACE(towards ? "exact towards the eye" : "exact away from it");
+    AccuracyTable table;
+    table.directions = {glm::normalize(glm::vec3(-1, 0, -1)), glm::normalize(glm::vec3(1, 0, 1))};
+    auto fill = [&](std::vector<float>& errors, size_t count) {
+      for (size_t i = 0; i < count; ++i) {
+        errors.push_back(towards ? 0.0f : 1e6f);
+        errors.push_back(towards ? 1e6f : 0.0f);
+      }
+    };
+    fill(table.lod_error, b.lods.lods.size());
+    fill(table.node_error, b.tree.nodes.size());
+    SelectionView sv{&frustum, view.pose.position, pixel_of(view), std::nullopt, 1.0f, -1.0};
+    sv.accuracy = &table;
+    std::vector<Choice> choices;
+    selection.select(sv, ClusterTraversal::refined, choices);
+    expect_complete(choices, frustum);
+    if (towards) {
+      ASSERT_EQ(choices.size(), 1u);
+      EXPECT_EQ(choices[0].kind, Choice::Kind::cluster);
+    } else {
+      for (const Choice& c : choices) EXPECT_EQ(c.kind, Choice::Kind::whole);
+    }
+  }
+}
+
 // Temporal coherence (paper 001, Sec. 4.6): a budget that swings every frame between two
 // values flips clusters into their children and back every frame without hysteresis, never
 // with the paper's rule, under half as often with the default one (only flips wait); the first

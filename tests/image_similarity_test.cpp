@@ -1,5 +1,5 @@
 // The accuracy comparators (paper 001, Sec. 3.2, and SSIM) on hand-made images.
-#include "farfield/eval/image_similarity.hpp"
+#include "farfield/core/image_similarity.hpp"
 
 #include <gtest/gtest.h>
 

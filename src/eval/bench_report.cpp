@@ -85,8 +85,10 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
                     {"bake_s", t.bake_s},
                     {"load_s", t.load_s},
                     {"store_bytes", t.store_bytes}};
-    if (s.compared_frames > s.identical_frames)
+    if (s.compared_frames > s.identical_frames) {
       summary["psnr_db_mean_differing"] = s.psnr_db_mean_differing;
+      summary["psnr_db_pooled"] = s.psnr_db_pooled;
+    }
     if (options.budget_ms > 0) {
       summary["frames_over_budget_1_1x"] = s.frames_over_budget_1_1x;
       summary["p99_to_budget"] = s.p99_to_budget;

@@ -32,7 +32,7 @@ BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute, i
   if (n == 0) return s;
   std::vector<double> ms, pipelined, latency, prediction_error, occlusion;
   uint32_t over_budget = 0;
-  double psnr_sum = 0;
+  double psnr_sum = 0, mse_sum = 0;
   uint32_t psnr_count = 0;
   s.psnr_db_min = s.psnr_ceiling_db;
   for (const FrameRecord& f : t.frames) {
@@ -55,10 +55,13 @@ BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute, i
       continue;
     }
     psnr_sum += f.psnr_db;
+    mse_sum += 255.0 * 255.0 / std::pow(10.0, f.psnr_db / 10.0);
     psnr_count++;
     s.psnr_db_min = std::min(s.psnr_db_min, f.psnr_db);
   }
   s.psnr_db_mean_differing = psnr_count ? psnr_sum / psnr_count : 0.0;
+  s.psnr_db_pooled =
+      mse_sum > 0 ? 10.0 * std::log10(255.0 * 255.0 * s.compared_frames / mse_sum) : 0.0;
   s.psnr_db_mean = s.compared_frames
                        ? (psnr_sum + s.identical_frames * s.psnr_ceiling_db) / s.compared_frames
                        : 0.0;

@@ -13,6 +13,9 @@ struct BenchSummary {
   // of one channel of one pixel off by one, above that of any frame that differs.
   double psnr_db_mean = 0, psnr_db_min = 0;
   double psnr_db_mean_differing = 0;  // over the frames that differ; 0 when none does
+  // The PSNR of the mean squared error over all compared frames (an identical frame's is 0),
+  // so that techniques that differ on different frames compare; 0 when none differs.
+  double psnr_db_pooled = 0;
   double psnr_ceiling_db = 0;
   double pipelined_median_ms = 0, pipelined_p99_ms = 0, pipelined_latency_median_ms = 0;
   // Against brute, frame by frame (0 for brute itself).

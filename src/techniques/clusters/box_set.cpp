@@ -76,7 +76,7 @@ std::vector<Subject> subjects_of(const Scene& scene, const ClusterTree& tree,
     const uint32_t n = stack.back();
     stack.pop_back();
     const ClusterNode& node = tree.nodes[n];
-    if (node.clustered()) out.push_back({BoxSet::kNone, n, node.bounds});
+    if (node.clustered() && o.clusters) out.push_back({BoxSet::kNone, n, node.bounds});
     for (uint32_t k = node.objects_begin; k < node.own_end; ++k) {
       const uint32_t object = tree.objects[k];
       const Object& obj = scene.objects[object];

@@ -63,7 +63,8 @@ ClusterSelection::Seen ClusterSelection::see_node(uint32_t node) {
   const bool visible = view_->frustum->classify(box) != Visibility::none &&
                        (!near || meet(box, *near)) &&
                        !(view_->occlusion && view_->occlusion->hidden(box));
-  return {visible, !near || inside(box, *near), visible ? distance_to(box, view_->eye) : 0.0f};
+  return {visible, !near || inside(box, *near), visible ? distance_to(box, view_->eye) : 0.0f,
+          visible ? direction_of(box) : 0u};
 }
 
 ClusterSelection::Seen ClusterSelection::see_object(uint32_t object) {
@@ -74,7 +75,12 @@ ClusterSelection::Seen ClusterSelection::see_object(uint32_t object) {
   const bool visible = view_->frustum->classify(box) != Visibility::none &&
                        (!near || meet(box, *near)) &&
                        !(view_->occlusion && view_->occlusion->hidden(box));
-  return {visible, true, visible ? distance_to(box, view_->eye) : 0.0f};
+  return {visible, true, visible ? distance_to(box, view_->eye) : 0.0f,
+          visible ? direction_of(box) : 0u};
+}
+
+uint32_t ClusterSelection::direction_of(const Bounds3& box) const {
+  return view_->accuracy ? view_->accuracy->nearest(view_->eye - box.center()) : 0u;
 }
 
 // Paper 001, Sec. 4.5.1: the first pass looks at every object (and here every node) of the
@@ -98,9 +104,23 @@ uint64_t ClusterSelection::object_triangles(uint32_t object, uint32_t level) con
                          : lods_.lods[level].index_count / 3;
 }
 
-float ClusterSelection::object_error(uint32_t object, uint32_t level) const {
-  if (level == kBox) return box_error(object_box(object));
-  return level == kWhole ? 0.0f : lods_.lods[level].error_m;
+float ClusterSelection::object_error(uint32_t object, uint32_t level, uint32_t direction) const {
+  const AccuracyTable* a = view_->accuracy;
+  if (level == kWhole) return 0.0f;
+  if (level == kBox) {
+    const uint32_t box = object_box(object);
+    return a ? a->box(box, direction) : boxes_->boxes[box].error_m;
+  }
+  return a ? a->lod(level, direction) : lods_.lods[level].error_m;
+}
+
+float ClusterSelection::node_error(uint32_t node, uint32_t level, uint32_t direction) const {
+  const AccuracyTable* a = view_->accuracy;
+  if (level == kBox) {
+    const uint32_t box = node_box(node);
+    return a ? a->box(box, direction) : boxes_->boxes[box].error_m;
+  }
+  return a ? a->node(node, direction) : tree_.nodes[node].error_m;
 }
 
 SelectionStats ClusterSelection::select(const SelectionView& view, ClusterTraversal traversal,
@@ -137,18 +157,22 @@ void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats)
     if (!seen.visible) continue;
     if (node.clustered() && seen.clusterable) {
       const uint32_t box = node_box(n);
-      if (box != BoxSet::kNone && projected(box_error(box), seen.distance) <= view_->error_px) {
+      const float box_px = box != BoxSet::kNone
+                               ? projected(node_error(n, kBox, seen.direction), seen.distance)
+                               : INFINITY;
+      if (box_px <= view_->error_px) {
         set_state(n, as_cluster);
         out.push_back({Choice::Kind::box, box});
         stats.triangles += box_triangles(box);
-        take(projected(box_error(box), seen.distance));
+        take(box_px);
         continue;
       }
-      if (projected(node.error_m, seen.distance) <= view_->error_px) {
+      const float mesh_px = projected(node_error(n, 0, seen.direction), seen.distance);
+      if (mesh_px <= view_->error_px) {
         set_state(n, as_cluster);
         out.push_back({Choice::Kind::cluster, n});
         stats.triangles += node.triangles;
-        take(projected(node.error_m, seen.distance));
+        take(mesh_px);
         continue;
       }
     }
@@ -159,18 +183,18 @@ void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats)
       if (!o.visible) continue;
       uint32_t level = kWhole;
       const uint32_t box = object_box(object);
-      if (box != BoxSet::kNone && box_error(box) <= allowed * o.distance)
+      if (box != BoxSet::kNone && object_error(object, kBox, o.direction) <= allowed * o.distance)
         level = kBox;
       else
         for (uint32_t l = lods_.first_lod[object]; l < lods_.first_lod[object + 1]; ++l) {
-          if (lods_.lods[l].error_m > allowed * o.distance) break;
+          if (object_error(object, l, o.direction) > allowed * o.distance) break;
           level = l;
         }
       out.push_back(level == kBox     ? Choice{Choice::Kind::box, box}
                     : level == kWhole ? Choice{Choice::Kind::whole, object}
                                       : Choice{Choice::Kind::lod, level});
       stats.triangles += object_triangles(object, level);
-      take(projected(object_error(object, level), o.distance));
+      take(projected(object_error(object, level, o.direction), o.distance));
     }
     for (uint32_t c = node.child_count; c-- > 0;) stack_.push_back(node.first_child + c);
   }
@@ -196,8 +220,8 @@ double ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<Item
       const double cost = box != BoxSet::kNone
                               ? double(triangles) + per_draw
                               : triangles + per_draw * double(node.parts_end - node.parts_begin);
-      into.push_back(
-          {n, kNone, box != BoxSet::kNone ? kBox : 0, seen.distance, triangles, cost, true});
+      into.push_back({n, kNone, box != BoxSet::kNone ? kBox : 0, seen.direction, seen.distance,
+                      triangles, cost, true});
       total += cost;
       continue;
     }
@@ -210,7 +234,8 @@ double ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<Item
                              : end > begin                       ? end - 1
                                                                  : kWhole;
       const uint64_t triangles = object_triangles(object, level);
-      into.push_back({n, object, level, o.distance, triangles, triangles + per_draw, true});
+      into.push_back(
+          {n, object, level, o.direction, o.distance, triangles, triangles + per_draw, true});
       total += triangles + per_draw;
     }
     for (uint32_t c = node.child_count; c-- > 0;) stack_.push_back(node.first_child + c);
@@ -224,11 +249,9 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
   heap_.clear();
   stack_.clear();
   auto key = [&](const Item& item) {
-    if (item.object != kNone)
-      return projected(object_error(item.object, item.level), item.distance);
-    return projected(
-        item.level == kBox ? box_error(node_box(item.node)) : tree_.nodes[item.node].error_m,
-        item.distance);
+    return projected(item.object != kNone ? object_error(item.object, item.level, item.direction)
+                                          : node_error(item.node, item.level, item.direction),
+                     item.distance);
   };
   auto refinable = [&](const Item& item) { return item.object == kNone || item.level != kWhole; };
   auto push = [&](uint32_t id) {
@@ -247,7 +270,8 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
       const ClusterNode& node = tree_.nodes[item.node];
       // A box into its cluster mesh where that is finer; no hysteresis: the node stays drawn
       // as a cluster.
-      if (item.level == kBox && node.error_m < box_error(node_box(item.node))) {
+      if (item.level == kBox &&
+          node_error(item.node, 0, item.direction) < node_error(item.node, kBox, item.direction)) {
         const double mesh_cost =
             node.triangles + view_->triangles_per_draw * double(node.parts_end - node.parts_begin);
         const double more = mesh_cost - item.cost;
@@ -294,9 +318,9 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     const uint32_t begin = lods_.first_lod[item.object];
     uint32_t finer = kWhole;
     if (item.level == kBox) {  // the coarsest level finer than the box, else the whole
-      const float box = box_error(object_box(item.object));
+      const float box = object_error(item.object, kBox, item.direction);
       for (uint32_t l = lods_.first_lod[item.object + 1]; l-- > begin;)
-        if (lods_.lods[l].error_m < box) {
+        if (object_error(item.object, l, item.direction) < box) {
           finer = l;
           break;
         }

@@ -62,11 +62,13 @@ constexpr SettingSpec kSettings[] = {
      .max = 1e7,
      .baked = true},
     {.key = "boxes",
-     .type = SettingType::flag,
-     .default_value = "1",
-     .help = "bake textured boxes of objects and clusters (paper 001, Sec. 5.1): each rendered "
-             "onto the sides of its bounding box, drawn as up to 12 triangles where the deepest "
-             "surface a side shows projects below the error",
+     .type = SettingType::choice,
+     .default_value = "objects",
+     .help = "textured boxes baked (paper 001, Sec. 5.1: each rendered onto the sides of its "
+             "bounding box, drawn as up to 12 triangles): objects (of 32 triangles or more), "
+             "all (clusters too, the paper's; a cluster's box seen obliquely floats lower roofs "
+             "at the tallest one's height), or none",
+     .choices = "all|objects|none",
      .baked = true},
     {.key = "box_texels",
      .type = SettingType::number,
@@ -76,6 +78,45 @@ constexpr SettingSpec kSettings[] = {
      .unit = "Mtexel",
      .min = 0.01,
      .max = 4096,
+     .baked = true},
+    {.key = "errors",
+     .type = SettingType::choice,
+     .default_value = "image",
+     .help = "image: a representation's error is how far its image, from the direction it is "
+             "seen from, is from the full geometry's (the bake's accuracy tables, paper 001, "
+             "Sec. 3.2; geometric where the pack has none); geometric: the distance between the "
+             "surfaces (a box: the depth behind its sides)",
+     .choices = "image|geometric"},
+    {.key = "accuracy_directions",
+     .type = SettingType::integer,
+     .default_value = "16",
+     .help = "directions over the sphere the accuracy tables compare each representation "
+             "from (the paper used 5); 0: no tables",
+     .min = 0,
+     .max = 4096,
+     .baked = true},
+    {.key = "accuracy_px",
+     .type = SettingType::integer,
+     .default_value = "64",
+     .help = "texels across a representation's bounding sphere in the tables' finest "
+             "comparison (three coarser levels follow, each half the last)",
+     .unit = "px",
+     .min = 16,
+     .max = 4096,
+     .baked = true},
+    {.key = "comparator",
+     .type = SettingType::choice,
+     .default_value = "ssim",
+     .help = "ssim: structural similarity of the grey images over the windows something "
+             "covers; edges: the paper's (5x5 Laplacian zero crossings, blurred, compared)",
+     .choices = "ssim|edges",
+     .baked = true},
+    {.key = "accuracy_threshold",
+     .type = SettingType::number,
+     .default_value = "0.97",
+     .help = "the similarity at which a representation's image passes at a level of the tables",
+     .min = 0.01,
+     .max = 1,
      .baked = true},
     {.key = "traversal",
      .type = SettingType::choice,
@@ -121,7 +162,7 @@ const TechniqueDescriptor clusters_descriptor{
     .paper = "001",
     .settings = kSettings,
     .bake = BakeUse::optional,
-    .bake_format = 4,
+    .bake_format = 5,
     .bake_renders = true,
     .make = [](const SettingValues& v,
                const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
@@ -134,8 +175,16 @@ const TechniqueDescriptor clusters_descriptor{
       o.tree.cluster_triangles = uint32_t(v.integer("cluster_triangles"));
       o.tree.loose = float(v.number("loose"));
       o.tree.threads = o.lods.threads;
-      o.boxes = v.flag("boxes");
+      o.boxes = v.text("boxes") != "none";
+      o.box.clusters = v.text("boxes") == "all";
       o.box.max_texels = v.number("box_texels") * 1e6;
+      o.accuracy_tables = v.integer("accuracy_directions") > 0;
+      o.accuracy.directions = v.integer("accuracy_directions");
+      o.accuracy.resolution_px = v.integer("accuracy_px");
+      o.accuracy.comparator =
+          v.text("comparator") == "edges" ? Comparator::edges : Comparator::ssim;
+      o.accuracy.threshold = v.number("accuracy_threshold");
+      o.image_errors = v.text("errors") == "image";
       o.hysteresis = v.integer("hysteresis");
       o.occlusion = v.flag("occlusion");
       o.hysteresis_rule =
@@ -169,15 +218,24 @@ Result<void> ClustersTechnique::bake(const BakeContext& context) {
     if (!baked) return make_error("clusters: ", baked.error().message);
     boxes = std::move(*baked);
   }
+  AccuracyTable accuracy;
+  if (options_.accuracy_tables && context.renderer) {
+    auto baked = bake_accuracy_table(context.scene, *lods, *tree, boxes, *context.renderer,
+                                     options_.accuracy, context.progress);
+    if (!baked) return make_error("clusters: ", baked.error().message);
+    accuracy = std::move(*baked);
+  }
   if (auto ok = save_lod_set(*lods, context.store); !ok) return ok;
   if (auto ok = save_cluster_tree(*tree, context.store); !ok) return ok;
   if (auto ok = save_box_set(boxes, context.store); !ok) return ok;
+  if (auto ok = save_accuracy_table(accuracy, context.store); !ok) return ok;
   if (auto erased = context.store.erase("clusters/work/"); !erased) return erased.error();
   lods_ = std::move(*lods);
   tree_ = std::move(*tree);
   clusters_ = count_clusters(tree_);
   box_texels_ = boxes.texels();
   boxes_ = std::move(boxes);
+  accuracy_ = std::move(accuracy);
   return {};
 }
 
@@ -197,22 +255,27 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
     if (!tree) return tree.error();
     auto boxes = load_box_set(*context.store, context.scene, *tree);
     if (!boxes) return boxes.error();
-    return use(std::move(*lods), std::move(*tree), std::move(*boxes), context.scene,
-               context.device);
+    auto accuracy = load_accuracy_table(*context.store, *lods, *tree, *boxes);
+    if (!accuracy) return accuracy.error();
+    return use(std::move(*lods), std::move(*tree), std::move(*boxes), std::move(*accuracy),
+               context.scene, context.device);
   }
   auto lods = build_lod_set(context.scene, options_.lods, context.progress);
   if (!lods) return make_error("clusters: ", lods.error().message);
   auto tree = build_cluster_tree(context.scene, options_.tree, context.progress);
   if (!tree) return make_error("clusters: ", tree.error().message);
   // Boxes are rendered by a bake; without one there are none.
-  return use(std::move(*lods), std::move(*tree), BoxSet{}, context.scene, context.device);
+  return use(std::move(*lods), std::move(*tree), BoxSet{}, AccuracyTable{}, context.scene,
+             context.device);
 }
 
-Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes, const Scene& scene,
+Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
+                                    AccuracyTable accuracy, const Scene& scene,
                                     gpu::Device& device) {
   lods_ = std::move(lods);
   tree_ = std::move(tree);
   boxes_ = std::move(boxes);
+  accuracy_ = std::move(accuracy);
   box_texels_ = boxes_.texels();
   scene_ = &scene;
   clusters_ = count_clusters(tree_);
@@ -265,6 +328,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   sv.error_px = options_.error_px;
   sv.hysteresis = options_.hysteresis;
   sv.hysteresis_rule = options_.hysteresis_rule;
+  if (options_.image_errors && !accuracy_.empty()) sv.accuracy = &accuracy_;
   if (occluders_) {
     out.occlusion_ms = occluders_->fill(occlusion_, view, frustum);
     sv.occlusion = &occlusion_;
@@ -369,11 +433,12 @@ void ClustersTechnique::tint(DrawList& list) const {
 std::string ClustersTechnique::describe() const {
   return formatted(
       "%zu levels of detail for %zu objects (%llu triangles), %zu nodes of which %zu clusters "
-      "(%llu triangles), %zu textured boxes (%.1f Mtexel, %.3f m a texel on average)",
+      "(%llu triangles), %zu textured boxes (%.1f Mtexel, %.3f m a texel on average), accuracy "
+      "tables from %zu directions",
       lods_.lods.size(), lods_.first_lod.empty() ? size_t(0) : lods_.first_lod.size() - 1,
       (unsigned long long)(lods_.indices.size() / 3), tree_.nodes.size(), clusters_,
       (unsigned long long)tree_.triangle_count(), boxes_.boxes.size(), double(box_texels_) / 1e6,
-      boxes_.mean_texel_m());
+      boxes_.mean_texel_m(), accuracy_.directions.size());
 }
 
 std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {

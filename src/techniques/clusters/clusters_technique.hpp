@@ -12,6 +12,7 @@
 #include "farfield/core/frustum.hpp"
 #include "farfield/spatial/occluders.hpp"
 #include "farfield/spatial/occlusion_map.hpp"
+#include "farfield/techniques/clusters/accuracy_table.hpp"
 #include "farfield/techniques/clusters/cluster_selection.hpp"
 #include "farfield/techniques/clusters/cluster_tree.hpp"
 #include "farfield/techniques/clusters/frame_cost.hpp"
@@ -26,9 +27,12 @@ extern const TechniqueDescriptor clusters_descriptor;
 struct ClustersOptions {
   LodSetOptions lods;
   ClusterTreeOptions tree;
-  bool boxes = true;  // bake textured boxes
+  bool boxes = true;  // bake textured boxes (BoxSetOptions::clusters: of clusters too)
   BoxSetOptions box;
-  float error_px = 1.0f;  // the largest projected geometric error, pixels
+  bool accuracy_tables = true;  // bake the accuracy tables
+  AccuracyOptions accuracy;
+  bool image_errors = true;  // select by the tables' errors where the pack has them
+  float error_px = 1.0f;     // the largest projected geometric error, pixels
   ClusterTraversal traversal = ClusterTraversal::refined;
   int hysteresis = 4;  // frames (paper 001, Sec. 4.6)
   HysteresisRule hysteresis_rule = HysteresisRule::flips;
@@ -48,8 +52,8 @@ class ClustersTechnique final : public Technique {
   void tint(DrawList& list) const override;
 
  private:
-  Result<void> use(LodSet lods, ClusterTree tree, BoxSet boxes, const Scene& scene,
-                   gpu::Device& device);
+  Result<void> use(LodSet lods, ClusterTree tree, BoxSet boxes, AccuracyTable accuracy,
+                   const Scene& scene, gpu::Device& device);
   void add_boxes(DrawList& out);
 
   ClustersOptions options_;
@@ -58,6 +62,7 @@ class ClustersTechnique final : public Technique {
   ClusterTree tree_;
   size_t clusters_ = 0;  // nodes of tree_ with a cluster
   BoxSet boxes_;         // its pages go to the renderer with the first frame
+  AccuracyTable accuracy_;
   uint64_t box_texels_ = 0;
   std::vector<MeshHandle> box_meshes_;  // per page
   std::vector<TextureHandle> box_textures_;

@@ -45,6 +45,7 @@ static_assert(sizeof(TexturedBox) == 80);
 
 struct BoxSetOptions {
   uint32_t min_triangles = 32;  // an object with fewer gets no box (a box draws up to 12)
+  bool clusters = false;        // boxes for the clusters too (the paper's)
   double max_texels = 64e6;     // all sides together (RGBA8: 4 bytes each, a third more mipmapped)
   int max_side_px = 256;        // a side's image, texels on its longer edge at most
   int min_side_px = 4;

@@ -34,6 +34,7 @@
 #include "farfield/core/frustum.hpp"
 #include "farfield/scene/scene.hpp"
 #include "farfield/spatial/occlusion_map.hpp"
+#include "farfield/techniques/clusters/accuracy_table.hpp"
 #include "farfield/techniques/clusters/box_set.hpp"
 #include "farfield/techniques/clusters/cluster_tree.hpp"
 #include "farfield/techniques/clusters/lod_set.hpp"
@@ -54,6 +55,9 @@ struct SelectionView {
   int hysteresis = 0;               // under a budget: frames a refinement waits (0: none)
   HysteresisRule hysteresis_rule = HysteresisRule::flips;
   const OcclusionMap* occlusion = nullptr;  // what it hides is not drawn, if given
+  // Errors from the accuracy tables (image errors, by the direction each node and object is
+  // seen from), if given; else the geometric errors.
+  const AccuracyTable* accuracy = nullptr;
 };
 
 // One thing to draw: a cluster's mesh, an object's level of detail, an object whole, or a
@@ -89,6 +93,7 @@ class ClusterSelection {
   static constexpr uint32_t kNone = UINT32_MAX;
   struct Item {
     uint32_t node, object, level;
+    uint32_t direction;  // of the accuracy tables, towards the eye
     float distance;
     uint64_t triangles;
     double cost;  // triangles and draws (SelectionView::triangles_per_draw)
@@ -98,18 +103,22 @@ class ClusterSelection {
     bool visible;
     bool clusterable;  // a cluster may stand for it (within the near region, if any)
     float distance;
+    uint32_t direction;  // of the accuracy tables, towards the eye (0 without them)
   };
   Seen see_node(uint32_t node);
   Seen see_object(uint32_t object);
   void classify_all();
   float projected(float error_m, float distance) const;
   uint64_t object_triangles(uint32_t object, uint32_t level) const;
-  float object_error(uint32_t object, uint32_t level) const;  // 0 for kWhole
+  // Errors, metres: an object's at a level (0 for kWhole), a node's cluster mesh (level 0)
+  // or box (kBox), seen from an accuracy-table direction.
+  float object_error(uint32_t object, uint32_t level, uint32_t direction) const;
+  float node_error(uint32_t node, uint32_t level, uint32_t direction) const;
+  uint32_t direction_of(const Bounds3& box) const;
   uint32_t object_box(uint32_t object) const {
     return boxes_ ? boxes_->object_box[object] : BoxSet::kNone;
   }
   uint32_t node_box(uint32_t node) const { return boxes_ ? boxes_->node_box[node] : BoxSet::kNone; }
-  float box_error(uint32_t box) const { return boxes_->boxes[box].error_m; }
   uint64_t box_triangles(uint32_t box) const { return 2 * boxes_->boxes[box].side_count(); }
   void by_error(std::vector<Choice>& out, SelectionStats& stats);
   void under_budget(std::vector<Choice>& out, SelectionStats& stats);

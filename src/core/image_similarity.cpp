@@ -1,4 +1,4 @@
-#include "farfield/eval/image_similarity.hpp"
+#include "farfield/core/image_similarity.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -96,8 +96,14 @@ double edge_similarity(const Image& a, const Image& b, const EdgeSimilarityOptio
 }
 
 double structural_similarity(const Image& a, const Image& b) {
+  return structural_similarity(a, b, {});
+}
+
+double structural_similarity(const Image& a, const Image& b, std::span<const uint8_t> mask) {
   FF_ASSERT(a.width == b.width && a.height == b.height, "sizes %dx%d and %dx%d", a.width, a.height,
             b.width, b.height);
+  FF_ASSERT(mask.empty() || mask.size() == size_t(a.width) * size_t(a.height),
+            "a mask of %zu pixels for %dx%d", mask.size(), a.width, a.height);
   const int w = a.width, h = a.height;
   constexpr int kWindow = 8, kStep = 4;
   constexpr double c1 = (0.01 * 255) * (0.01 * 255), c2 = (0.03 * 255) * (0.03 * 255);
@@ -107,6 +113,12 @@ double structural_similarity(const Image& a, const Image& b) {
   const int wx = std::max(1, std::min(kWindow, w)), wy = std::max(1, std::min(kWindow, h));
   for (int y0 = 0; y0 + wy <= h; y0 += kStep)
     for (int x0 = 0; x0 + wx <= w; x0 += kStep) {
+      if (!mask.empty()) {
+        bool any = false;
+        for (int y = y0; y < y0 + wy && !any; ++y)
+          for (int x = x0; x < x0 + wx && !any; ++x) any = mask[size_t(y) * w + x] != 0;
+        if (!any) continue;
+      }
       double ma = 0, mb = 0, vaa = 0, vbb = 0, vab = 0;
       const double n = double(wx) * double(wy);
       for (int y = y0; y < y0 + wy; ++y)

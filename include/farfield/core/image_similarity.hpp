@@ -12,6 +12,9 @@
 // The images must have the same size.
 #pragma once
 
+#include <cstdint>
+#include <span>
+
 #include "farfield/core/image.hpp"
 
 namespace farfield {
@@ -23,5 +26,8 @@ struct EdgeSimilarityOptions {
 
 double edge_similarity(const Image& a, const Image& b, const EdgeSimilarityOptions& options = {});
 double structural_similarity(const Image& a, const Image& b);
+// The same over the windows that hold a pixel of `mask` (one byte a pixel, non-zero: in),
+// so that a background both images share does not count; 1 where no window does.
+double structural_similarity(const Image& a, const Image& b, std::span<const uint8_t> mask);
 
 }  // namespace farfield

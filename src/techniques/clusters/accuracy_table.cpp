@@ -1,0 +1,324 @@
+#include "farfield/techniques/clusters/accuracy_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "farfield/core/image_similarity.hpp"
+#include "farfield/core/text.hpp"
+#include "farfield/gpu/renderer.hpp"
+#include "farfield/store/blob_array.hpp"
+#include "farfield/store/store.hpp"
+#include "farfield/techniques/object_set.hpp"
+
+namespace farfield {
+
+namespace {
+
+constexpr const char* kDirections = "clusters/accuracy_directions";
+constexpr const char* kLodErrors = "clusters/accuracy_lods";
+constexpr const char* kBoxErrors = "clusters/accuracy_boxes";
+constexpr const char* kNodeErrors = "clusters/accuracy_nodes";
+
+// An image and which of its pixels something covers.
+struct Shot {
+  Image image;
+  std::vector<uint8_t> covered;
+};
+
+Shot half_size(const Shot& s) {
+  const int w = std::max(1, s.image.width / 2), h = std::max(1, s.image.height / 2);
+  Shot out;
+  out.image = Image(w, h);
+  out.covered.assign(size_t(w) * size_t(h), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      int sum[3] = {0, 0, 0};
+      uint8_t any = 0;
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+          const int sx = std::min(2 * x + dx, s.image.width - 1);
+          const int sy = std::min(2 * y + dy, s.image.height - 1);
+          const uint8_t* p = s.image.pixel(sx, sy);
+          for (int c = 0; c < 3; ++c) sum[c] += p[c];
+          any |= s.covered[size_t(sy) * size_t(s.image.width) + size_t(sx)];
+        }
+      uint8_t* q = out.image.pixel(x, y);
+      for (int c = 0; c < 3; ++c) q[c] = uint8_t((sum[c] + 2) / 4);
+      out.covered[size_t(y) * size_t(w) + size_t(x)] = any;
+    }
+  return out;
+}
+
+double similarity(const Shot& a, const Shot& b, Comparator comparator) {
+  if (comparator == Comparator::edges) return edge_similarity(a.image, b.image);
+  std::vector<uint8_t> either(a.covered.size());
+  for (size_t p = 0; p < either.size(); ++p) either[p] = a.covered[p] | b.covered[p];
+  return structural_similarity(a.image, b.image, either);
+}
+
+// The image error in metres of `shot` against `reference`, texels of `texel_m` at the finest
+// level (the header's rule).
+float image_error(const Shot& reference, const Shot& shot, float texel_m, float size_m,
+                  const AccuracyOptions& o) {
+  Shot a = reference, b = shot;
+  for (int level = 0; level < o.levels; ++level) {
+    const double s = similarity(a, b, o.comparator);
+    if (s >= o.threshold) {
+      if (level > 0) return texel_m * float(1 << level);
+      return texel_m * float(std::clamp((1.0 - s) / std::max(1.0 - o.threshold, 1e-6), 0.0, 1.0));
+    }
+    if (level + 1 < o.levels) {
+      a = half_size(a);
+      b = half_size(b);
+    }
+  }
+  return size_m;
+}
+
+// Orthographic and reversed-Z (the renderer's), looking at the sphere around `box` from
+// `towards`.
+glm::mat4 looking_at(const Bounds3& box, const glm::vec3& towards) {
+  const glm::vec3 c = box.center();
+  const float r = std::max(0.5f * glm::length(box.size()), 1e-4f);
+  const float margin = 0.01f * r + 0.01f;
+  const glm::vec3 eye = c + towards * (r + margin);
+  const glm::vec3 up = std::abs(towards.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+  return glm::orthoRH_ZO(-r, r, -r, r, 2.0f * r + 2.0f * margin, 0.5f * margin) *
+         glm::lookAtRH(eye, c, up);
+}
+
+Shot render(gpu::Renderer& renderer, const glm::mat4& view_projection, int px,
+            const DrawList& list) {
+  renderer.draw_with(view_projection, px, px, list);
+  Shot s;
+  s.image = renderer.capture();
+  s.covered = renderer.capture_alpha();
+  for (uint8_t& c : s.covered) c = c != 0;
+  return s;
+}
+
+void add_range(const Scene& scene, DrawRange range, DrawList& list) {
+  (scene.materials[range.material].transparent() ? list.transparent : list.opaque).push_back(range);
+}
+
+}  // namespace
+
+std::vector<glm::vec3> sphere_directions(int count) {
+  std::vector<glm::vec3> out;
+  const float golden = 3.14159265f * (3.0f - std::sqrt(5.0f));
+  for (int k = 0; k < count; ++k) {
+    const float y = 1.0f - 2.0f * (float(k) + 0.5f) / float(count);
+    const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+    const float a = golden * float(k);
+    out.push_back({r * std::cos(a), y, r * std::sin(a)});
+  }
+  return out;
+}
+
+uint32_t AccuracyTable::nearest(const glm::vec3& towards_viewer) const {
+  uint32_t best = 0;
+  float best_dot = -INFINITY;
+  for (uint32_t k = 0; k < directions.size(); ++k) {
+    const float d = glm::dot(directions[k], towards_viewer);
+    if (d > best_dot) {
+      best_dot = d;
+      best = k;
+    }
+  }
+  return best;
+}
+
+Result<AccuracyTable> bake_accuracy_table(const Scene& scene, const LodSet& lods,
+                                          const ClusterTree& tree, const BoxSet& boxes,
+                                          gpu::Renderer& renderer, const AccuracyOptions& o,
+                                          Progress& progress) {
+  if (o.directions < 1 || o.directions > 4096 || o.levels < 1 ||
+      (o.resolution_px >> (o.levels - 1)) < 2 || o.resolution_px > 4096)
+    return make_error(formatted("accuracy tables: %d directions and %d levels from %d px",
+                                o.directions, o.levels, o.resolution_px));
+  AccuracyTable table;
+  table.directions = sphere_directions(o.directions);
+  const size_t k_count = table.directions.size();
+  table.lod_error.assign(lods.lods.size() * k_count, 0.0f);
+  table.box_error.assign(boxes.boxes.size() * k_count, 0.0f);
+  table.node_error.assign(tree.nodes.size() * k_count, 0.0f);
+
+  // The representations go to the renderer as a technique's resources would.
+  MeshHandle lod_mesh, cluster_mesh;
+  if (!lods.indices.empty()) {
+    auto made = renderer.create_scene_mesh(lods.vertices, lods.uvs, lods.indices);
+    if (!made) return made.error();
+    lod_mesh = *made;
+  }
+  if (!tree.indices.empty()) {
+    auto made = renderer.create_scene_mesh(tree.vertices, tree.uvs, tree.indices);
+    if (!made) return made.error();
+    cluster_mesh = *made;
+  }
+  const BoxMeshes box_mesh = box_meshes(boxes);
+  std::vector<MeshHandle> page_meshes;
+  std::vector<TextureHandle> page_textures;
+  DrawList uploads;
+  for (size_t p = 0; p < box_mesh.pages.size(); ++p) {
+    auto made =
+        renderer.create_textured_mesh(box_mesh.pages[p].vertices, box_mesh.pages[p].indices);
+    if (!made) return made.error();
+    page_meshes.push_back(*made);
+    page_textures.push_back(renderer.create_texture());
+    uploads.uploads.push_back({page_textures.back(), boxes.page_px, boxes.page_px, 4,
+                               boxes.pages[p].data(), nullptr, true});
+  }
+  const int px = o.resolution_px;
+  renderer.set_offscreen(px, px);
+  renderer.set_clear_alpha(0.0f);
+  if (!uploads.uploads.empty()) renderer.draw_with(glm::mat4(1.0f), px, px, uploads);
+
+  auto box_draw = [&](uint32_t box, DrawList& list) {
+    const uint32_t page = boxes.boxes[box].page;
+    list.meshes.push_back({page_meshes[page], box_mesh.first_index[box], box_mesh.index_count[box],
+                           page_textures[page]});
+  };
+  // One subject: its full geometry (`full`), and each representation drawn by `reps`.
+  ObjectSet objects(scene);
+  DrawList full, rep;
+  struct Rep {
+    float* errors;  // k_count of them
+    std::function<void(DrawList&)> draw;
+  };
+  std::vector<Rep> reps;
+  auto measure = [&](const Bounds3& bounds) {
+    const float size = std::max(glm::length(bounds.size()), 1e-4f);
+    const float texel = size / float(px);
+    for (size_t k = 0; k < k_count; ++k) {
+      const glm::mat4 vp = looking_at(bounds, table.directions[k]);
+      const Shot reference = render(renderer, vp, px, full);
+      for (Rep& r : reps) {
+        rep.clear();
+        r.draw(rep);
+        r.errors[k] = image_error(reference, render(renderer, vp, px, rep), texel, size, o);
+      }
+    }
+  };
+
+  uint64_t subjects = 0;
+  for (uint32_t obj = 0; obj < scene.objects.size(); ++obj)
+    subjects +=
+        lods.first_lod[obj + 1] > lods.first_lod[obj] || boxes.object_box[obj] != BoxSet::kNone;
+  for (const ClusterNode& n : tree.nodes) subjects += n.clustered();
+  progress.start("bake accuracy tables", subjects);
+
+  for (uint32_t obj = 0; obj < scene.objects.size(); ++obj) {
+    const uint32_t begin = lods.first_lod[obj], end = lods.first_lod[obj + 1];
+    const uint32_t box = boxes.object_box[obj];
+    if (begin == end && box == BoxSet::kNone) continue;
+    const Object& object = scene.objects[obj];
+    full.clear();
+    objects.clear();
+    objects.insert(obj);
+    objects.emit(full);
+    reps.clear();
+    for (uint32_t l = begin; l < end; ++l)
+      reps.push_back({&table.lod_error[size_t(l) * k_count], [&, l](DrawList& list) {
+                        add_range(scene,
+                                  {lods.lods[l].first_index, lods.lods[l].index_count,
+                                   object.material, lod_mesh},
+                                  list);
+                      }});
+    if (box != BoxSet::kNone)
+      reps.push_back({&table.box_error[size_t(box) * k_count],
+                      [&, box](DrawList& list) { box_draw(box, list); }});
+    measure(object.bounds);
+    // Finer levels first: a coarser level is never claimed better than a finer one.
+    for (uint32_t l = begin + 1; l < end; ++l)
+      for (size_t k = 0; k < k_count; ++k)
+        table.lod_error[size_t(l) * k_count + k] = std::max(
+            table.lod_error[size_t(l) * k_count + k], table.lod_error[size_t(l - 1) * k_count + k]);
+    progress.advance();
+  }
+  for (uint32_t n = 0; n < tree.nodes.size(); ++n) {
+    const ClusterNode& node = tree.nodes[n];
+    if (!node.clustered()) continue;
+    full.clear();
+    objects.clear();
+    for (uint32_t k = node.objects_begin; k < node.objects_end; ++k)
+      objects.insert(tree.objects[k]);
+    objects.emit(full);
+    reps.clear();
+    reps.push_back({&table.node_error[size_t(n) * k_count], [&](DrawList& list) {
+                      for (uint32_t p = node.parts_begin; p < node.parts_end; ++p)
+                        add_range(scene,
+                                  {tree.parts[p].first_index, tree.parts[p].index_count,
+                                   tree.parts[p].material, cluster_mesh},
+                                  list);
+                    }});
+    const uint32_t box = boxes.node_box[n];
+    if (box != BoxSet::kNone)
+      reps.push_back({&table.box_error[size_t(box) * k_count],
+                      [&, box](DrawList& list) { box_draw(box, list); }});
+    measure(node.bounds);
+    progress.advance();
+  }
+  progress.finish();
+  renderer.set_clear_alpha(1.0f);
+  renderer.set_offscreen(0, 0);
+  for (MeshHandle m : page_meshes) renderer.free(m);
+  for (TextureHandle t : page_textures) renderer.free(t);
+  if (lod_mesh) renderer.free(lod_mesh);
+  if (cluster_mesh) renderer.free(cluster_mesh);
+  return table;
+}
+
+Result<void> save_accuracy_table(const AccuracyTable& table, Store& store) {
+  auto transaction = store.begin();
+  if (!transaction) return transaction.error();
+  if (auto erased = store.erase("clusters/accuracy_"); !erased) return erased.error();
+  if (!table.empty()) {
+    if (auto ok = store.put(kDirections, bytes_of(table.directions)); !ok) return ok;
+    if (auto ok = store.put(kLodErrors, bytes_of(table.lod_error)); !ok) return ok;
+    if (auto ok = store.put(kBoxErrors, bytes_of(table.box_error)); !ok) return ok;
+    if (auto ok = store.put(kNodeErrors, bytes_of(table.node_error)); !ok) return ok;
+  }
+  return transaction->commit();
+}
+
+Result<AccuracyTable> load_accuracy_table(const Store& store, const LodSet& lods,
+                                          const ClusterTree& tree, const BoxSet& boxes) {
+  AccuracyTable table;
+  auto present = store.contains(kDirections);
+  if (!present) return present.error();
+  if (!*present) return table;
+  auto directions = read_array<glm::vec3>(store, kDirections);
+  if (!directions) return directions.error();
+  auto lod_error = read_array<float>(store, kLodErrors);
+  if (!lod_error) return lod_error.error();
+  auto box_error = read_array<float>(store, kBoxErrors);
+  if (!box_error) return box_error.error();
+  auto node_error = read_array<float>(store, kNodeErrors);
+  if (!node_error) return node_error.error();
+  const size_t k = directions->size();
+  auto inconsistent = [&](const char* what) {
+    return make_error(store.path(), ": clusters bake is inconsistent (accuracy tables: ", what,
+                      ")");
+  };
+  if (k == 0) return inconsistent("no directions");
+  for (const glm::vec3& d : *directions)
+    if (!(std::abs(glm::length(d) - 1.0f) < 1e-3f))
+      return inconsistent("a direction not of unit length");
+  if (lod_error->size() != lods.lods.size() * k || box_error->size() != boxes.boxes.size() * k ||
+      node_error->size() != tree.nodes.size() * k)
+    return inconsistent("not one error per representation and direction");
+  for (const auto* errors : {&*lod_error, &*box_error, &*node_error})
+    for (float e : *errors)
+      if (!(e >= 0.0f) || !std::isfinite(e)) return inconsistent("an error not finite");
+  table.directions = std::move(*directions);
+  table.lod_error = std::move(*lod_error);
+  table.box_error = std::move(*box_error);
+  table.node_error = std::move(*node_error);
+  return table;
+}
+
+}  // namespace farfield

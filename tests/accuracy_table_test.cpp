@@ -1,0 +1,179 @@
+// Accuracy tables (paper 001, Sec. 3.2): the directions, image errors that order the
+// representations as their images do, and the pack that keeps them.
+#include "farfield/techniques/clusters/accuracy_table.hpp"
+
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include "farfield/core/assert.hpp"
+#include "farfield/core/image_similarity.hpp"
+#include "farfield/gpu/context.hpp"
+#include "farfield/gpu/renderer.hpp"
+#include "farfield/scene/city_generator.hpp"
+#include "farfield/store/blob_array.hpp"
+#include "farfield/store/store.hpp"
+#include "test_util.hpp"
+
+namespace farfield {
+namespace {
+
+TEST(AccuracyTable, DirectionsSpreadOverTheSphere) {
+  for (int count : {1, 5, 16, 64}) {
+    const std::vector<glm::vec3> d = sphere_directions(count);
+    ASSERT_EQ(d.size(), size_t(count));
+    glm::vec3 sum(0.0f);
+    for (const glm::vec3& v : d) {
+      EXPECT_NEAR(glm::length(v), 1.0f, 1e-5f);
+      sum += v;
+    }
+    if (count >= 16) {
+      EXPECT_LT(glm::length(sum) / float(count), 0.05f);
+    }
+    // Every point of the sphere has a direction within the angle a cap of 4 pi / count spans
+    // (twice over, for the lattice's unevenness).
+    AccuracyTable t;
+    t.directions = d;
+    const float cap = 2.0f * std::acos(1.0f - 2.0f / float(count));
+    for (const glm::vec3& probe : sphere_directions(997)) {
+      const float angle = std::acos(std::clamp(glm::dot(d[t.nearest(probe)], probe), -1.0f, 1.0f));
+      EXPECT_LE(angle, std::max(cap, 0.2f)) << count;
+    }
+  }
+}
+
+TEST(ImageSimilarity, AMaskLeavesTheSharedBackgroundOut) {
+  Image a(64, 64), b(64, 64);
+  std::vector<uint8_t> mask(64 * 64, 0);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const bool in = x >= 24 && x < 40 && y >= 24 && y < 40;
+      std::fill_n(a.pixel(x, y), 3, uint8_t(in ? ((x + y) % 2 ? 250 : 10) : 128));
+      std::fill_n(b.pixel(x, y), 3, uint8_t(in ? 130 : 128));
+      mask[size_t(y) * 64 + size_t(x)] = in;
+    }
+  const double whole = structural_similarity(a, b), masked = structural_similarity(a, b, mask);
+  EXPECT_LT(masked, whole);  // the background's windows agree and raise the whole's
+  EXPECT_LT(masked, 0.2);
+  EXPECT_EQ(structural_similarity(a, a, mask), 1.0);
+  EXPECT_EQ(structural_similarity(a, b, std::vector<uint8_t>(64 * 64, 0)), 1.0);
+}
+
+// A city of 2 x 2 blocks with its levels, hierarchy, boxes and tables, made once.
+struct Baked {
+  Scene scene;
+  LodSet lods;
+  ClusterTree tree;
+  BoxSet boxes;
+  AccuracyTable table;
+  std::string skip;
+};
+const Baked& baked() {
+  static const Baked b = [] {
+    Baked out;
+    auto context = gpu::create_headless_context();
+    if (!context) {
+      out.skip = context.error().message;
+      return out;
+    }
+    Progress quiet(true);
+    CityOptions o;
+    o.blocks_x = o.blocks_z = 2;
+    auto scene = generate_city(o, quiet);
+    FF_ASSERT(scene.ok(), "city");
+    out.scene = std::move(*scene);
+    auto lods = build_lod_set(out.scene, {}, quiet);
+    FF_ASSERT(lods.ok(), "lods");
+    out.lods = std::move(*lods);
+    ClusterTreeOptions t;
+    t.leaf_objects = 6;
+    auto tree = build_cluster_tree(out.scene, t, quiet);
+    FF_ASSERT(tree.ok(), "tree");
+    out.tree = std::move(*tree);
+    auto renderer = gpu::Renderer::create(out.scene);
+    FF_ASSERT(renderer.ok(), "renderer");
+    BoxSetOptions bo;
+    bo.max_texels = 4e6;
+    bo.clusters = true;
+    auto boxes = bake_box_set(out.scene, out.tree, **renderer, bo, quiet);
+    FF_ASSERT(boxes.ok(), "boxes");
+    out.boxes = std::move(*boxes);
+    AccuracyOptions ao;
+    ao.directions = 8;
+    auto table =
+        bake_accuracy_table(out.scene, out.lods, out.tree, out.boxes, **renderer, ao, quiet);
+    FF_ASSERT(table.ok(), "%s", table ? "" : table.error().message.c_str());
+    out.table = std::move(*table);
+    return out;
+  }();
+  return b;
+}
+
+// Errors are finite, within a representation's size, never smaller along a chain; coarser
+// levels of the city's buildings (which lose their windows) are worse by image than by
+// geometry; a box's image error is not its depth error.
+TEST(AccuracyTableGL, ErrorsGrowAlongChainsAndSeeWhatGeometryMisses) {
+  const Baked& b = baked();
+  if (!b.skip.empty()) GTEST_SKIP() << b.skip;
+  const AccuracyTable& t = b.table;
+  const size_t k_count = t.directions.size();
+  ASSERT_EQ(k_count, 8u);
+  ASSERT_EQ(t.lod_error.size(), b.lods.lods.size() * k_count);
+  int image_worse = 0, chains = 0;
+  for (uint32_t o = 0; o < b.scene.objects.size(); ++o) {
+    const uint32_t begin = b.lods.first_lod[o], end = b.lods.first_lod[o + 1];
+    const float size = glm::length(b.scene.objects[o].bounds.size());
+    for (uint32_t l = begin; l < end; ++l)
+      for (uint32_t k = 0; k < k_count; ++k) {
+        EXPECT_GE(t.lod(l, k), 0.0f);
+        EXPECT_LE(t.lod(l, k), size * 1.001f);
+        if (l > begin) {
+          EXPECT_GE(t.lod(l, k), t.lod(l - 1, k));
+        }
+      }
+    if (end > begin && b.scene.objects[o].kind == ObjectKind::building) {
+      ++chains;
+      float image = 0;
+      for (uint32_t k = 0; k < k_count; ++k) image = std::max(image, t.lod(end - 1, k));
+      image_worse += image > b.lods.lods[end - 1].error_m;
+    }
+  }
+  ASSERT_GT(chains, 5);
+  EXPECT_GT(image_worse, chains / 2);
+  int differs = 0;
+  for (uint32_t box = 0; box < b.boxes.boxes.size(); ++box)
+    differs += t.box(box, 0) != b.boxes.boxes[box].error_m;
+  EXPECT_GT(differs, int(b.boxes.boxes.size()) / 2);
+}
+
+TEST(AccuracyTableGL, KeptInAPackAndRefusedWhenDamaged) {
+  const Baked& b = baked();
+  if (!b.skip.empty()) GTEST_SKIP() << b.skip;
+  test::TempDir dir;
+  auto store = Store::open(dir.file("table.ffpack"), Store::Mode::kReadWrite);
+  ASSERT_TRUE(store);
+  auto none = load_accuracy_table(*store, b.lods, b.tree, b.boxes);
+  ASSERT_TRUE(none) << none.error().message;
+  EXPECT_TRUE(none->empty());
+  ASSERT_TRUE(save_accuracy_table(b.table, *store));
+  auto back = load_accuracy_table(*store, b.lods, b.tree, b.boxes);
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_EQ(back->lod_error, b.table.lod_error);
+  EXPECT_EQ(back->box_error, b.table.box_error);
+  EXPECT_EQ(back->node_error, b.table.node_error);
+
+  std::vector<float> short_errors(b.table.lod_error.begin(), b.table.lod_error.end() - 1);
+  ASSERT_TRUE(store->put("clusters/accuracy_lods", bytes_of(short_errors)));
+  auto refused = load_accuracy_table(*store, b.lods, b.tree, b.boxes);
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find("one error per representation"), std::string::npos);
+  std::vector<float> bad = b.table.lod_error;
+  bad[0] = NAN;
+  ASSERT_TRUE(store->put("clusters/accuracy_lods", bytes_of(bad)));
+  refused = load_accuracy_table(*store, b.lods, b.tree, b.boxes);
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find("not finite"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace farfield
