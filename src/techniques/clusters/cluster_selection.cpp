@@ -15,6 +15,23 @@ bool inside(const Bounds3& box, const Bounds3& region) {
 
 }  // namespace
 
+float semantic_weight(ObjectKind kind) {
+  switch (kind) {
+    case ObjectKind::tree:
+    case ObjectKind::fountain:
+      return 0.8f;
+    case ObjectKind::terrain:
+      return 0.7f;
+    case ObjectKind::park:
+    case ObjectKind::street:
+    case ObjectKind::curb:
+    case ObjectKind::ground:
+      return 0.5f;
+    default:
+      return 1.0f;
+  }
+}
+
 ClusterSelection::ClusterSelection(const Scene& scene, const ClusterTree& tree, const LodSet& lods,
                                    const BoxSet* boxes)
     : scene_(scene),
@@ -24,7 +41,39 @@ ClusterSelection::ClusterSelection(const Scene& scene, const ClusterTree& tree, 
       state_(tree.nodes.size(), unseen),
       last_state_(tree.nodes.size(), unseen),
       wanted_(tree.nodes.size(), 0),
-      coarsened_at_(tree.nodes.size(), 0) {}
+      coarsened_at_(tree.nodes.size(), 0) {
+  node_semantics_.assign(tree.nodes.size(), 0.0f);
+  for (uint32_t n = 0; n < tree.nodes.size(); ++n)
+    for (uint32_t k = tree.nodes[n].objects_begin; k < tree.nodes[n].objects_end; ++k)
+      node_semantics_[n] =
+          std::max(node_semantics_[n], semantic_weight(scene.objects[tree.objects[k]].kind));
+}
+
+// Paper 001, Sec. 3.1: a weighted average of the factors intrinsic to what is seen.
+float ClusterSelection::benefit_of(const Bounds3& box, float distance, float semantics) const {
+  const BenefitWeights& w = view_->benefit;
+  if (!w.any()) return 1.0f;
+  const float d = std::max(distance, 1e-3f);
+  const glm::vec3 size = box.size();
+  const float across_px =
+      std::sqrt(size.x * size.x + size.y * size.y + size.z * size.z) / (d * view_->pixel);
+  const float size_factor = std::min(1.0f, across_px / std::max(view_->width_px, 1.0f));
+  const glm::vec3 to = box.center() - view_->eye;
+  const float to_length = std::sqrt(glm::dot(to, to));
+  const float angle =
+      to_length > 1e-6f
+          ? std::acos(std::clamp(glm::dot(to / to_length, view_->forward), -1.0f, 1.0f))
+          : 0.0f;
+  const float focus = std::max(0.0f, 1.0f - angle / std::max(view_->half_fov_rad, 1e-3f));
+  // The eye's motion across the line to the box, in pixels at its distance.
+  const glm::vec3 v = view_->velocity;
+  const glm::vec3 along = to_length > 1e-6f ? to / to_length : glm::vec3(0.0f);
+  const glm::vec3 across = v - along * glm::dot(v, along);
+  const float speed_px = std::sqrt(glm::dot(across, across)) / (d * view_->pixel);
+  const float slowness = 1.0f / (1.0f + speed_px / 8.0f);
+  return (w.size * size_factor + w.focus * focus + w.speed * slowness + w.semantics * semantics) /
+         (w.size + w.focus + w.speed + w.semantics);
+}
 
 void ClusterSelection::set_state(uint32_t node, State state) {
   if (state_[node] == unseen) touched_.push_back(node);
@@ -221,7 +270,8 @@ double ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<Item
                               ? double(triangles) + per_draw
                               : triangles + per_draw * double(node.parts_end - node.parts_begin);
       into.push_back({n, kNone, box != BoxSet::kNone ? kBox : 0, seen.direction, seen.distance,
-                      triangles, cost, true});
+                      benefit_of(node.bounds, seen.distance, node_semantics_[n]), triangles, cost,
+                      true});
       total += cost;
       continue;
     }
@@ -234,8 +284,10 @@ double ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<Item
                              : end > begin                       ? end - 1
                                                                  : kWhole;
       const uint64_t triangles = object_triangles(object, level);
-      into.push_back(
-          {n, object, level, o.direction, o.distance, triangles, triangles + per_draw, true});
+      const Object& obj = scene_.objects[object];
+      into.push_back({n, object, level, o.direction, o.distance,
+                      benefit_of(obj.bounds, o.distance, semantic_weight(obj.kind)), triangles,
+                      triangles + per_draw, true});
       total += triangles + per_draw;
     }
     for (uint32_t c = node.child_count; c-- > 0;) stack_.push_back(node.first_child + c);
@@ -248,11 +300,13 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
   items_.clear();
   heap_.clear();
   stack_.clear();
-  auto key = [&](const Item& item) {
+  auto error_px = [&](const Item& item) {
     return projected(item.object != kNone ? object_error(item.object, item.level, item.direction)
                                           : node_error(item.node, item.level, item.direction),
                      item.distance);
   };
+  // Paper 001, Sec. 4.5.2: the most beneficial refined first (the benefit 1 without weights).
+  auto key = [&](const Item& item) { return error_px(item) * item.benefit; };
   auto refinable = [&](const Item& item) { return item.object == kNone || item.level != kWhole; };
   auto push = [&](uint32_t id) {
     if (!refinable(items_[id])) return;
@@ -348,7 +402,7 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     else
       out.push_back({Choice::Kind::lod, item.level});
     stats.triangles += item.triangles;
-    stats.largest_error_px = std::max(stats.largest_error_px, key(item));
+    stats.largest_error_px = std::max(stats.largest_error_px, error_px(item));
   }
 }
 

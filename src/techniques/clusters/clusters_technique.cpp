@@ -118,6 +118,32 @@ constexpr SettingSpec kSettings[] = {
      .min = 0.01,
      .max = 1,
      .baked = true},
+    {.key = "benefit_size",
+     .type = SettingType::number,
+     .default_value = "0",
+     .help = "under a budget, the weight of image-space size in the benefit that orders "
+             "refinements (paper 001, Sec. 3.1; all four weights 0: the projected error alone)",
+     .min = 0,
+     .max = 100},
+    {.key = "benefit_focus",
+     .type = SettingType::number,
+     .default_value = "0",
+     .help = "the weight of nearness to the line of sight in the benefit",
+     .min = 0,
+     .max = 100},
+    {.key = "benefit_speed",
+     .type = SettingType::number,
+     .default_value = "0",
+     .help = "the weight of slowness across the screen in the benefit",
+     .min = 0,
+     .max = 100},
+    {.key = "benefit_semantics",
+     .type = SettingType::number,
+     .default_value = "0",
+     .help = "the weight of the object's kind in the benefit (buildings 1, trees 0.8, terrain "
+             "0.7, streets and ground 0.5)",
+     .min = 0,
+     .max = 100},
     {.key = "traversal",
      .type = SettingType::choice,
      .default_value = "refined",
@@ -185,6 +211,8 @@ const TechniqueDescriptor clusters_descriptor{
           v.text("comparator") == "edges" ? Comparator::edges : Comparator::ssim;
       o.accuracy.threshold = v.number("accuracy_threshold");
       o.image_errors = v.text("errors") == "image";
+      o.benefit = {float(v.number("benefit_size")), float(v.number("benefit_focus")),
+                   float(v.number("benefit_speed")), float(v.number("benefit_semantics"))};
       o.hysteresis = v.integer("hysteresis");
       o.occlusion = v.flag("occlusion");
       o.hysteresis_rule =
@@ -329,6 +357,13 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   sv.hysteresis = options_.hysteresis;
   sv.hysteresis_rule = options_.hysteresis_rule;
   if (options_.image_errors && !accuracy_.empty()) sv.accuracy = &accuracy_;
+  sv.benefit = options_.benefit;
+  sv.forward = view.pose.forward();
+  sv.width_px = float(view.width);
+  sv.half_fov_rad = std::atan(std::tan(glm::radians(view.hfov_deg) * 0.5f) *
+                              std::sqrt(1.0f + 1.0f / (view.aspect() * view.aspect())));
+  sv.velocity = frames_ > 1 ? view.pose.position - last_eye_ : glm::vec3(0.0f);
+  last_eye_ = view.pose.position;
   if (occluders_) {
     out.occlusion_ms = occluders_->fill(occlusion_, view, frustum);
     sv.occlusion = &occlusion_;

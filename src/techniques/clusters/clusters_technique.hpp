@@ -32,7 +32,8 @@ struct ClustersOptions {
   bool accuracy_tables = true;  // bake the accuracy tables
   AccuracyOptions accuracy;
   bool image_errors = true;  // select by the tables' errors where the pack has them
-  float error_px = 1.0f;     // the largest projected geometric error, pixels
+  BenefitWeights benefit;
+  float error_px = 1.0f;  // the largest projected geometric error, pixels
   ClusterTraversal traversal = ClusterTraversal::refined;
   int hysteresis = 4;  // frames (paper 001, Sec. 4.6)
   HysteresisRule hysteresis_rule = HysteresisRule::flips;
@@ -70,6 +71,7 @@ class ClustersTechnique final : public Technique {
   std::vector<uint32_t> boxes_chosen_;
   bool boxes_uploaded_ = false;
   bool upload_frame_ = false;  // the last frame uploaded the pages
+  glm::vec3 last_eye_{0.0f};
   gpu::OwnedResources resources_;
   MeshHandle lod_mesh_, cluster_mesh_;  // lods_ and tree_'s clusters as scene meshes
   std::unique_ptr<ClusterSelection> selection_;

@@ -42,6 +42,19 @@
 namespace farfield {
 
 enum class ClusterTraversal { refined, paper };
+
+// Paper 001, Sec. 3.1: an object's benefit, a weighted average of its image-space size, its
+// nearness to the line of sight (focus), its slowness across the screen and its kind's
+// weight (semantics; a cluster's: the largest of its objects', Sec. 4.5.1), each in [0, 1].
+// Under a budget the refinement order is the projected error times the benefit; all weights
+// 0 (the default): the projected error alone.
+struct BenefitWeights {
+  float size = 0, focus = 0, speed = 0, semantics = 0;
+  bool any() const { return size + focus + speed + semantics > 0; }
+};
+// The semantic weight of a kind of object: buildings and unclassified meshes 1, trees and
+// fountains 0.8, terrain 0.7, parks, streets, curbs and ground 0.5.
+float semantic_weight(ObjectKind kind);
 enum class HysteresisRule { flips, paper };
 
 struct SelectionView {
@@ -58,6 +71,12 @@ struct SelectionView {
   // Errors from the accuracy tables (image errors, by the direction each node and object is
   // seen from), if given; else the geometric errors.
   const AccuracyTable* accuracy = nullptr;
+  // Under a budget, with any weight: the benefit's factors.
+  BenefitWeights benefit;
+  glm::vec3 forward{0.0f, 0.0f, -1.0f};  // the line of sight, unit
+  float half_fov_rad = 0.785f;           // from the line of sight to a corner of the view
+  glm::vec3 velocity{0.0f};              // of the eye since the last frame, metres
+  float width_px = 1024.0f;
 };
 
 // One thing to draw: a cluster's mesh, an object's level of detail, an object whole, or a
@@ -95,6 +114,7 @@ class ClusterSelection {
     uint32_t node, object, level;
     uint32_t direction;  // of the accuracy tables, towards the eye
     float distance;
+    float benefit;  // SelectionView::benefit's average, 1 without weights
     uint64_t triangles;
     double cost;  // triangles and draws (SelectionView::triangles_per_draw)
     bool live;
@@ -115,6 +135,7 @@ class ClusterSelection {
   float object_error(uint32_t object, uint32_t level, uint32_t direction) const;
   float node_error(uint32_t node, uint32_t level, uint32_t direction) const;
   uint32_t direction_of(const Bounds3& box) const;
+  float benefit_of(const Bounds3& box, float distance, float semantics) const;
   uint32_t object_box(uint32_t object) const {
     return boxes_ ? boxes_->object_box[object] : BoxSet::kNone;
   }
@@ -129,6 +150,7 @@ class ClusterSelection {
   const ClusterTree& tree_;
   const LodSet& lods_;
   const BoxSet* boxes_;
+  std::vector<float> node_semantics_;  // the largest semantic weight of a node's objects
   // A node's part in a frame, for temporal coherence.
   enum State : uint8_t { unseen = 0, as_cluster, held, refined };
   void set_state(uint32_t node, State state);
