@@ -26,10 +26,6 @@ namespace farfield::gpu {
 
 namespace {
 
-// Above this many consecutive ranges of one mesh a frame gathers them into one draw
-// (State::plan_meshes): per-command cost dominates otherwise (thousands of cube-face batches).
-constexpr size_t kMeshRangesPerCall = 64;
-
 // DrawElementsIndirectCommand as the GL reads it from the indirect buffer.
 struct DrawCommand {
   GLuint count;

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -68,6 +69,11 @@ struct TexturedMesh {
   std::vector<TexturedVertex> vertices;
   std::vector<uint32_t> indices;  // triangles
 };
+
+// Above this many consecutive MeshDraws of one mesh and texture a frame's renderer gathers
+// their indices into one draw: per-command cost dominates otherwise (thousands of cube-face
+// batches); at or below it each is a command of one multi-draw.
+inline constexpr size_t kMeshRangesPerCall = 64;
 
 // A range of a technique mesh's triangles, with a texture for a textured mesh (none for a
 // proxy mesh).

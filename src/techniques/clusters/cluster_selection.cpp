@@ -267,7 +267,7 @@ double ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<Item
       const uint32_t box = node_box(n);
       const uint64_t triangles = box != BoxSet::kNone ? box_triangles(box) : node.triangles;
       const double cost = box != BoxSet::kNone
-                              ? double(triangles) + per_draw
+                              ? double(triangles)
                               : triangles + per_draw * double(node.parts_end - node.parts_begin);
       into.push_back({n, kNone, box != BoxSet::kNone ? kBox : 0, seen.direction, seen.distance,
                       benefit_of(node.bounds, seen.distance, node_semantics_[n]), triangles, cost,
@@ -285,10 +285,11 @@ double ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<Item
                                                                  : kWhole;
       const uint64_t triangles = object_triangles(object, level);
       const Object& obj = scene_.objects[object];
+      const double cost = double(triangles) + (level == kBox ? 0.0 : per_draw);
       into.push_back({n, object, level, o.direction, o.distance,
                       benefit_of(obj.bounds, o.distance, semantic_weight(obj.kind)), triangles,
-                      triangles + per_draw, true});
-      total += triangles + per_draw;
+                      cost, true});
+      total += cost;
     }
     for (uint32_t c = node.child_count; c-- > 0;) stack_.push_back(node.first_child + c);
   }
@@ -381,7 +382,9 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     } else if (item.level != begin)
       finer = item.level - 1;
     const uint64_t triangles = object_triangles(item.object, finer);
-    const double more = double(triangles) - double(item.triangles);  // the same one draw
+    // A level is a draw of its own; a box was not (SelectionView::triangles_per_draw).
+    const double more = double(triangles) - double(item.triangles) +
+                        (item.level == kBox ? view_->triangles_per_draw : 0.0);
     if (more > 0 && cost + more > budget) continue;
     cost += more;
     item.level = finer;

@@ -425,17 +425,16 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     }
   }
   full_->emit(out);  // the whole objects, in scene order
-  const size_t meshes_before = out.meshes.size();
-  add_boxes(out);
+  const size_t box_draws = add_boxes(out);
   if (cost_.ready())
     out.predicted_ms = cost_.predict_ms(
-        double(stats.triangles),
-        double(out.opaque.size() + out.transparent.size() + out.meshes.size() - meshes_before));
+        double(stats.triangles), double(out.opaque.size() + out.transparent.size() + box_draws));
 }
 
 // The chosen boxes by page, neighbours in a page one draw; the pages' pixels go to the
-// renderer with the first frame (the list keeps them until it is drawn).
-void ClustersTechnique::add_boxes(DrawList& out) {
+// renderer with the first frame (the list keeps them until it is drawn). Returns the draws
+// the renderer will count for them: a page's ranges, or one where it gathers them.
+size_t ClustersTechnique::add_boxes(DrawList& out) {
   if (!boxes_uploaded_ && !boxes_.pages.empty()) {
     for (size_t p = 0; p < boxes_.pages.size(); ++p) {
       auto pixels = std::make_shared<std::vector<uint8_t>>(std::move(boxes_.pages[p]));
@@ -457,6 +456,14 @@ void ClustersTechnique::add_boxes(DrawList& out) {
       out.meshes.push_back({mesh, box_first_[b], box_count_[b], box_textures_[page]});
   }
   boxes_chosen_.clear();
+  size_t draws = 0;
+  for (size_t b = first; b < out.meshes.size();) {
+    size_t e = b;
+    while (e < out.meshes.size() && out.meshes[e].mesh == out.meshes[b].mesh) ++e;
+    draws += e - b > kMeshRangesPerCall ? 1 : e - b;
+    b = e;
+  }
+  return draws;
 }
 
 void ClustersTechnique::tint(DrawList& list) const {

@@ -55,7 +55,7 @@ class ClustersTechnique final : public Technique {
  private:
   Result<void> use(LodSet lods, ClusterTree tree, BoxSet boxes, AccuracyTable accuracy,
                    const Scene& scene, gpu::Device& device);
-  void add_boxes(DrawList& out);
+  size_t add_boxes(DrawList& out);
 
   ClustersOptions options_;
   const Scene* scene_ = nullptr;

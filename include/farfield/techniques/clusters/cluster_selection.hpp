@@ -64,8 +64,10 @@ struct SelectionView {
   std::optional<Bounds3> near_box;  // drawing for a near region only: what meets it
   float error_px = 1.0f;            // by error: the largest projected error
   double max_triangles = -1.0;      // >= 0: under this budget instead
-  double triangles_per_draw = 0.0;  // what a draw costs, counted in triangles, under a budget
-  int hysteresis = 0;               // under a budget: frames a refinement waits (0: none)
+  // What a draw costs, counted in triangles, under a budget. Boxes are charged none: the
+  // chosen boxes of an atlas page are one multi-draw, gathered into one draw beyond 64.
+  double triangles_per_draw = 0.0;
+  int hysteresis = 0;  // under a budget: frames a refinement waits (0: none)
   HysteresisRule hysteresis_rule = HysteresisRule::flips;
   const OcclusionMap* occlusion = nullptr;  // what it hides is not drawn, if given
   // Errors from the accuracy tables (image errors, by the direction each node and object is
