@@ -15,7 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       for (uint32_t index : scene->indices) sum += scene->vertices[index].position.x;
       for (const auto& object : scene->objects) {
         sum += float(scene->object_name(object).size());
-        if (scene->textured(object)) {
+        if (scene->textured(object) && object.vertex_count > 0) {  // an empty object has none
           sum += scene->uvs[object.first_uv + object.vertex_count - 1].x;
           sum += float(scene->textures[scene->materials[object.material].texture].encoded.size());
         }
