@@ -261,7 +261,6 @@ Result<void> ClustersTechnique::bake(const BakeContext& context) {
   lods_ = std::move(*lods);
   tree_ = std::move(*tree);
   clusters_ = count_clusters(tree_);
-  box_texels_ = boxes.texels();
   boxes_ = std::move(boxes);
   accuracy_ = std::move(accuracy);
   return {};
@@ -304,7 +303,6 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   tree_ = std::move(tree);
   boxes_ = std::move(boxes);
   accuracy_ = std::move(accuracy);
-  box_texels_ = boxes_.texels();
   scene_ = &scene;
   clusters_ = count_clusters(tree_);
   if (tree_.objects.size() == scene.objects.size()) order_lods_by_level(lods_, tree_.objects);
@@ -322,7 +320,7 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   }
   box_meshes_.clear();
   box_textures_.clear();
-  boxes_uploaded_ = upload_frame_ = false;
+  upload_frame_ = false;
   {
     BoxMeshes meshes = box_meshes(boxes_);
     for (const TexturedMesh& page : meshes.pages) {
@@ -435,14 +433,14 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
 // renderer with the first frame (the list keeps them until it is drawn). Returns the draws
 // the renderer will count for them: a page's ranges, or one where it gathers them.
 size_t ClustersTechnique::add_boxes(DrawList& out) {
-  if (!boxes_uploaded_ && !boxes_.pages.empty()) {
+  if (!boxes_.pages.empty()) {  // not yet uploaded
     for (size_t p = 0; p < boxes_.pages.size(); ++p) {
       auto pixels = std::make_shared<std::vector<uint8_t>>(std::move(boxes_.pages[p]));
       out.uploads.push_back(
           {box_textures_[p], boxes_.page_px, boxes_.page_px, 4, pixels->data(), pixels, true});
     }
     boxes_.pages.clear();
-    boxes_uploaded_ = upload_frame_ = true;
+    upload_frame_ = true;
   }
   std::sort(boxes_chosen_.begin(), boxes_chosen_.end());
   const size_t first = out.meshes.size();
@@ -479,8 +477,8 @@ std::string ClustersTechnique::describe() const {
       "tables from %zu directions",
       lods_.lods.size(), lods_.first_lod.empty() ? size_t(0) : lods_.first_lod.size() - 1,
       (unsigned long long)(lods_.indices.size() / 3), tree_.nodes.size(), clusters_,
-      (unsigned long long)tree_.triangle_count(), boxes_.boxes.size(), double(box_texels_) / 1e6,
-      boxes_.mean_texel_m(), accuracy_.directions.size());
+      (unsigned long long)tree_.triangle_count(), boxes_.boxes.size(),
+      double(boxes_.texels()) / 1e6, boxes_.mean_texel_m(), accuracy_.directions.size());
 }
 
 std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
@@ -494,7 +492,7 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
           {"mean_objects_as_lods", mean(lods_drawn_)},
           {"mean_objects_full", mean(full_drawn_)},
           {"boxes", double(boxes_.boxes.size())},
-          {"box_texels", double(box_texels_)},
+          {"box_texels", double(boxes_.texels())},
           {"mean_boxes_drawn", mean(boxes_drawn_)},
           {"mean_visited", mean(visited_)},
           {"switches", double(switches_)},

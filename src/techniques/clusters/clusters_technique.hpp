@@ -62,14 +62,12 @@ class ClustersTechnique final : public Technique {
   LodSet lods_;
   ClusterTree tree_;
   size_t clusters_ = 0;  // nodes of tree_ with a cluster
-  BoxSet boxes_;         // its pages go to the renderer with the first frame
+  BoxSet boxes_;         // its pages go to the renderer with the first frame (then emptied)
   AccuracyTable accuracy_;
-  uint64_t box_texels_ = 0;
   std::vector<MeshHandle> box_meshes_;  // per page
   std::vector<TextureHandle> box_textures_;
   std::vector<uint32_t> box_first_, box_count_;  // per box: its indices in its page's mesh
   std::vector<uint32_t> boxes_chosen_;
-  bool boxes_uploaded_ = false;
   bool upload_frame_ = false;  // the last frame uploaded the pages
   glm::vec3 last_eye_{0.0f};
   gpu::OwnedResources resources_;
