@@ -379,7 +379,6 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   if (input.budget.target_ms > 0.0 && cost_.ready()) {
     sv.max_triangles = cost_.triangles_within(0.9 * input.budget.target_ms);
     sv.triangles_per_draw = cost_.triangles_per_draw();
-    sv.max_triangles *= FrameCostModel::probe_share(frames_);
   }
   const SelectionStats stats = selection_->select(sv, options_.traversal, choices_);
   visited_ += stats.nodes_visited;

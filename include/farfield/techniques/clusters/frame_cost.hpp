@@ -28,11 +28,6 @@ class FrameCostModel {
   // mean time per triangle of the frames measured.
   double triangles_within(double ms) const;
   double triangles_per_draw() const;
-  // What share of triangles_within() frame `frame` should ask for. A budget that holds its
-  // frames steady would leave the model nothing to tell its fixed part from its part per
-  // triangle (it would charge everything to the triangles and buy too few): every third
-  // frame asks for a quarter fewer, below the budget, never above.
-  static double probe_share(uint64_t frame) { return frame % 3 == 0 ? 0.75 : 1.0; }
 
  private:
   struct Fit {
