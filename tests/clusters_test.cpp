@@ -194,6 +194,14 @@ TEST(Clusters, ABudgetIsHeldWithEveryObjectDrawn) {
     previous = list.triangle_count();
   }
   EXPECT_EQ(previous, all);  // 20 ms affords everything
+  // Nothing measured yet: the coarsest complete representation, so that the cost model
+  // starts from below the budget.
+  auto cold = make_technique("clusters");
+  ASSERT_TRUE(test::load_technique(**cold, scene, &device));
+  list.clear();
+  (*cold)->select({view, 1, Region::everything(), FrameBudget{20.0, 0.0, 0.0, 0}}, list);
+  EXPECT_GT(list.triangle_count(), 0u);
+  EXPECT_LE(list.triangle_count(), cheapest);
 }
 
 // From afar the levels look like the tree: the frame is close to brute force's.
@@ -285,6 +293,7 @@ TEST(FrameCostModel, FitsAFixedPartAndAPartPerTriangle) {
     const double triangles = 10000.0 + 5000.0 * (i % 5);
     model.observe(triangles, 100.0, 5.0 + 0.001 * triangles);
   }
+  EXPECT_TRUE(model.separated());
   EXPECT_NEAR(model.fixed_ms(), 5.0, 1e-6);
   EXPECT_NEAR(model.ms_per_triangle(), 0.001, 1e-9);
   EXPECT_EQ(model.ms_per_draw(), 0.0);  // the draws never changed: nothing known of them
@@ -294,6 +303,7 @@ TEST(FrameCostModel, FitsAFixedPartAndAPartPerTriangle) {
   EXPECT_NEAR(model.triangles_within(4.0), 4.0 / (25.0 / 20000.0), 200.0);
   FrameCostModel steady;
   for (int i = 0; i < 10; ++i) steady.observe(20000.0, 50.0, 25.0);
+  EXPECT_FALSE(steady.separated());  // one count: the technique then asks for more
   EXPECT_EQ(steady.fixed_ms(), 0.0);
   EXPECT_NEAR(steady.ms_per_triangle(), 25.0 / 20000.0, 1e-12);
   EXPECT_NEAR(steady.predict_ms(20000.0, 50.0), 25.0, 1e-9);
@@ -311,6 +321,7 @@ TEST(FrameCostModel, KeepsThePartsWhileTheRecentFramesHoldOneCount) {
     model.observe(triangles, 10.0, 9.0 + 0.0005 * triangles);
   }
   for (int i = 0; i < 60; ++i) model.observe(900.0, 2.0, 9.45);
+  EXPECT_TRUE(model.separated());
   EXPECT_NEAR(model.ms_per_triangle(), 0.0005, 1e-4);
   EXPECT_NEAR(model.predict_ms(900.0, 2.0), 9.45, 1e-6);
   // Room for tens of thousands of triangles in 30 ms, not the 2,900 that charging 9.45 ms to

@@ -22,9 +22,8 @@ void FrameCostModel::observe(double triangles, double draws, double ms) {
   if (!(triangles > 0.0) || !(ms > 0.0) || !(draws >= 0.0)) return;
   recent_.add(kKeep, triangles, draws, ms);
   longer_.add(kKeepLonger, triangles, draws, ms);
-  bool separated = false;
-  fit_ = solve(recent_, separated);
-  if (separated) return;
+  fit_ = solve(recent_, separated_);
+  if (separated_) return;
   // The recent frames did not vary enough (a budget held at one cut, the coarsest one
   // perhaps): the parts the longer memory tells apart, the fixed part set so that the model
   // is exact at the recent frames' mean. Charging everything to the triangles instead would
@@ -36,7 +35,9 @@ void FrameCostModel::observe(double triangles, double draws, double ms) {
   const double mt = recent_.t / recent_.weight, md = recent_.d / recent_.weight,
                my = recent_.y / recent_.weight;
   const double fixed = my - longer.per_triangle * mt - longer.per_draw * md;
-  if (fixed >= 0.0) fit_ = {fixed, longer.per_triangle, longer.per_draw};
+  if (fixed < 0.0) return;
+  fit_ = {fixed, longer.per_triangle, longer.per_draw};
+  separated_ = true;
 }
 
 FrameCostModel::Fit FrameCostModel::solve(const Sums& s, bool& separated) {

@@ -19,6 +19,9 @@ class FrameCostModel {
  public:
   void observe(double triangles, double draws, double ms);
   bool ready() const { return recent_.weight > 0.0; }
+  // The parts were told apart (by the recent frames or the longer memory); false: the frames
+  // measured held one count, and the whole time is charged to the triangles.
+  bool separated() const { return separated_; }
   double fixed_ms() const { return fit_.fixed; }
   double ms_per_triangle() const { return fit_.per_triangle; }
   double ms_per_draw() const { return fit_.per_draw; }
@@ -45,6 +48,7 @@ class FrameCostModel {
   static constexpr double kKeep = 0.9, kKeepLonger = 0.99;
   Sums recent_, longer_;
   Fit fit_;  // after the last observe()
+  bool separated_ = false;
 };
 
 }  // namespace farfield
