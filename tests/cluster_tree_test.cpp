@@ -433,7 +433,9 @@ TEST(ClusterSelection, BoxesStandForTheirNodesAndObjects) {
 
 // With accuracy tables, a representation's error is the one of the direction it is seen
 // from: a table of no error towards the corner view and a huge one away from it draws the
-// root's cluster alone; the same table turned round draws every object in view whole.
+// root's cluster alone (and, where errors below the tables' finest texel give way to the
+// geometric ones, what the geometric errors draw); the same table turned round draws every
+// object in view whole.
 TEST(ClusterSelection, ImageErrorsAreThoseOfTheDirectionSeenFrom) {
   const Scene& scene = small_city();
   const Baked& b = baked();
@@ -460,6 +462,17 @@ TEST(ClusterSelection, ImageErrorsAreThoseOfTheDirectionSeenFrom) {
     if (towards) {
       ASSERT_EQ(choices.size(), 1u);
       EXPECT_EQ(choices[0].kind, Choice::Kind::cluster);
+      // Errors of 0 lie below any texel of the tables' finest comparison: told that it had
+      // 64 texels across each subject, the selection takes the geometric errors instead,
+      // the same as without the table.
+      sv.accuracy_finest_px = 64.0f;
+      std::vector<Choice> below, geometric;
+      selection.select(sv, ClusterTraversal::refined, below);
+      sv.accuracy = nullptr;
+      selection.select(sv, ClusterTraversal::refined, geometric);
+      EXPECT_GT(below.size(), 1u);
+      ASSERT_EQ(below.size(), geometric.size());
+      for (size_t i = 0; i < below.size(); ++i) EXPECT_EQ(below[i].index, geometric[i].index);
     } else {
       for (const Choice& c : choices) EXPECT_EQ(c.kind, Choice::Kind::whole);
     }

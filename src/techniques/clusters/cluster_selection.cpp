@@ -42,6 +42,10 @@ ClusterSelection::ClusterSelection(const Scene& scene, const ClusterTree& tree, 
       last_state_(tree.nodes.size(), unseen),
       wanted_(tree.nodes.size(), 0),
       coarsened_at_(tree.nodes.size(), 0) {
+  object_diagonal_.reserve(scene.objects.size());
+  for (const Object& o : scene.objects) object_diagonal_.push_back(glm::length(o.bounds.size()));
+  node_diagonal_.reserve(tree.nodes.size());
+  for (const ClusterNode& n : tree.nodes) node_diagonal_.push_back(glm::length(n.bounds.size()));
   node_semantics_.assign(tree.nodes.size(), 0.0f);
   for (uint32_t n = 0; n < tree.nodes.size(); ++n)
     for (uint32_t k = tree.nodes[n].objects_begin; k < tree.nodes[n].objects_end; ++k)
@@ -153,23 +157,28 @@ uint64_t ClusterSelection::object_triangles(uint32_t object, uint32_t level) con
                          : lods_.lods[level].index_count / 3;
 }
 
+float ClusterSelection::resolved(float image_m, float geometric_m, float diagonal_m) const {
+  const float finest = view_->accuracy_finest_px;
+  return finest > 0.0f && image_m * finest < diagonal_m ? geometric_m : image_m;
+}
+
 float ClusterSelection::object_error(uint32_t object, uint32_t level, uint32_t direction) const {
   const AccuracyTable* a = view_->accuracy;
   if (level == kWhole) return 0.0f;
-  if (level == kBox) {
-    const uint32_t box = object_box(object);
-    return a ? a->box(box, direction) : boxes_->boxes[box].error_m;
-  }
-  return a ? a->lod(level, direction) : lods_.lods[level].error_m;
+  const float geometric =
+      level == kBox ? boxes_->boxes[object_box(object)].error_m : lods_.lods[level].error_m;
+  if (!a) return geometric;
+  return resolved(level == kBox ? a->box(object_box(object), direction) : a->lod(level, direction),
+                  geometric, object_diagonal_[object]);
 }
 
 float ClusterSelection::node_error(uint32_t node, uint32_t level, uint32_t direction) const {
   const AccuracyTable* a = view_->accuracy;
-  if (level == kBox) {
-    const uint32_t box = node_box(node);
-    return a ? a->box(box, direction) : boxes_->boxes[box].error_m;
-  }
-  return a ? a->node(node, direction) : tree_.nodes[node].error_m;
+  const float geometric =
+      level == kBox ? boxes_->boxes[node_box(node)].error_m : tree_.nodes[node].error_m;
+  if (!a) return geometric;
+  return resolved(level == kBox ? a->box(node_box(node), direction) : a->node(node, direction),
+                  geometric, node_diagonal_[node]);
 }
 
 SelectionStats ClusterSelection::select(const SelectionView& view, ClusterTraversal traversal,

@@ -84,9 +84,11 @@ constexpr SettingSpec kSettings[] = {
      .default_value = "image",
      .help = "image: a representation's error is how far its image, from the direction it is "
              "seen from, is from the full geometry's (the bake's accuracy tables, paper 001, "
-             "Sec. 3.2; geometric where the pack has none); geometric: the distance between the "
-             "surfaces (a box: the depth behind its sides)",
-     .choices = "image|geometric"},
+             "Sec. 3.2), down to the tables' finest texel, and the geometric error below it; "
+             "tables: the tables' errors at every scale (extrapolated below their finest "
+             "texel); geometric: the distance between the surfaces (a box: the depth behind its "
+             "sides); without tables in the pack, geometric",
+     .choices = "image|tables|geometric"},
     {.key = "accuracy_directions",
      .type = SettingType::integer,
      .default_value = "16",
@@ -210,7 +212,8 @@ const TechniqueDescriptor clusters_descriptor{
       o.accuracy.comparator =
           v.text("comparator") == "edges" ? Comparator::edges : Comparator::ssim;
       o.accuracy.threshold = v.number("accuracy_threshold");
-      o.image_errors = v.text("errors") == "image";
+      o.image_errors = v.text("errors") != "geometric";
+      o.geometric_below_tables = v.text("errors") == "image";
       o.benefit = {float(v.number("benefit_size")), float(v.number("benefit_focus")),
                    float(v.number("benefit_speed")), float(v.number("benefit_semantics"))};
       o.hysteresis = v.integer("hysteresis");
@@ -263,6 +266,7 @@ Result<void> ClustersTechnique::bake(const BakeContext& context) {
   clusters_ = count_clusters(tree_);
   boxes_ = std::move(boxes);
   accuracy_ = std::move(accuracy);
+  accuracy_px_ = float(options_.accuracy.resolution_px);
   return {};
 }
 
@@ -284,6 +288,9 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
     if (!boxes) return boxes.error();
     auto accuracy = load_accuracy_table(*context.store, *lods, *tree, *boxes);
     if (!accuracy) return accuracy.error();
+    accuracy_px_ = 0.0f;  // unknown: the tables' errors at every scale
+    if (auto px = (*record)->settings.find("accuracy_px"); px != (*record)->settings.end())
+      accuracy_px_ = std::max(0.0f, std::strtof(px->second.c_str(), nullptr));
     return use(std::move(*lods), std::move(*tree), std::move(*boxes), std::move(*accuracy),
                context.scene, context.device);
   }
@@ -354,7 +361,10 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   sv.error_px = options_.error_px;
   sv.hysteresis = options_.hysteresis;
   sv.hysteresis_rule = options_.hysteresis_rule;
-  if (options_.image_errors && !accuracy_.empty()) sv.accuracy = &accuracy_;
+  if (options_.image_errors && !accuracy_.empty()) {
+    sv.accuracy = &accuracy_;
+    if (options_.geometric_below_tables) sv.accuracy_finest_px = accuracy_px_;
+  }
   sv.benefit = options_.benefit;
   sv.forward = view.pose.forward();
   sv.width_px = float(view.width);

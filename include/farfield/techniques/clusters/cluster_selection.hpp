@@ -73,6 +73,10 @@ struct SelectionView {
   // Errors from the accuracy tables (image errors, by the direction each node and object is
   // seen from), if given; else the geometric errors.
   const AccuracyTable* accuracy = nullptr;
+  // > 0: the tables' finest comparison put this many texels across a subject's bounds; an
+  // image error below that texel (a representation that passed there) is extrapolated, and
+  // the geometric error decides instead. 0: the tables' errors at every scale.
+  float accuracy_finest_px = 0.0f;
   // Under a budget, with any weight: the benefit's factors.
   BenefitWeights benefit;
   glm::vec3 forward{0.0f, 0.0f, -1.0f};  // the line of sight, unit
@@ -137,6 +141,9 @@ class ClusterSelection {
   float object_error(uint32_t object, uint32_t level, uint32_t direction) const;
   float node_error(uint32_t node, uint32_t level, uint32_t direction) const;
   uint32_t direction_of(const Bounds3& box) const;
+  // The table's error, or the geometric one where the table's is below its finest texel for
+  // a subject of diagonal `diagonal_m` (SelectionView::accuracy_finest_px).
+  float resolved(float image_m, float geometric_m, float diagonal_m) const;
   float benefit_of(const Bounds3& box, float distance, float semantics) const;
   uint32_t object_box(uint32_t object) const {
     return boxes_ ? boxes_->object_box[object] : BoxSet::kNone;
@@ -153,6 +160,7 @@ class ClusterSelection {
   const LodSet& lods_;
   const BoxSet* boxes_;
   std::vector<float> node_semantics_;  // the largest semantic weight of a node's objects
+  std::vector<float> object_diagonal_, node_diagonal_;  // of their bounds, metres
   // A node's part in a frame, for temporal coherence.
   enum State : uint8_t { unseen = 0, as_cluster, held, refined };
   void set_state(uint32_t node, State state);
