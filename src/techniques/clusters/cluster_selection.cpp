@@ -354,10 +354,10 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
       // mesh would wrap the view (a frame of 7 dB on the 10M city's street where it was not).
       if (more > 0 && cost + more > budget && item.distance > 0.0f) continue;
       // Temporal coherence (paper 001, Sec. 4.6), by one of two rules:
-      //  - paper: a cluster drawn last frame is refined only once wanted for more than
+      //  - paper (default): a cluster drawn last frame is refined only once wanted for more than
       //    `hysteresis` frames in a row (one not drawn last frame, just come into view or
       //    opened, at once: it cannot flicker, and a jump refines in one go);
-      //  - flips (default): only a cluster that went back from its children within the last
+      //  - flips: only a cluster that went back from its children within the last
       //    `hysteresis` frames waits: a first refinement is at once, a flip-flop is not.
       const bool waits =
           view_->hysteresis > 0 &&

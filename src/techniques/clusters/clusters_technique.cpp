@@ -162,7 +162,7 @@ constexpr SettingSpec kSettings[] = {
      .max = 1000},
     {.key = "hysteresis_rule",
      .type = SettingType::choice,
-     .default_value = "flips",
+     .default_value = "paper",
      .help = "flips: only a cluster that went back from its children within the last "
              "clusters.hysteresis frames waits; paper: every refinement of a cluster drawn last "
              "frame waits (paper 001, Sec. 4.6)",
@@ -397,8 +397,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     // 5 us each never afford a refinement): while the last frame was under the budget, ask
     // for twice its triangles, so that the counts vary.
     if (cost_.ready() && !cost_.separated() && input.budget.last_frame_ms < target_ms)
-      sv.max_triangles =
-          std::max(sv.max_triangles, 2.0 * double(input.budget.last_triangles));
+      sv.max_triangles = std::max(sv.max_triangles, 2.0 * double(input.budget.last_triangles));
     sv.triangles_per_draw = cost_.triangles_per_draw();
   }
   const SelectionStats stats = selection_->select(sv, options_.traversal, choices_);

@@ -39,7 +39,7 @@ struct ClustersOptions {
   float error_px = 1.0f;  // the largest projected geometric error, pixels
   ClusterTraversal traversal = ClusterTraversal::refined;
   int hysteresis = 4;  // frames (paper 001, Sec. 4.6)
-  HysteresisRule hysteresis_rule = HysteresisRule::flips;
+  HysteresisRule hysteresis_rule = HysteresisRule::paper;
   bool occlusion = true;  // cull with boxes inside the nearest opaque objects
 };
 

@@ -18,11 +18,11 @@
 // (Sec. 4.5.1's first pass over all objects, O(n), which Sec. 6 names the method's limit),
 // then refines from what that pass found, so that both can be measured.
 // Temporal coherence under a budget (Sec. 4.6), so that a node on the budget's edge does not
-// flip every frame: the paper's rule refines a cluster drawn in the last frame into its
-// children only once the walk has wanted to for more than `hysteresis` frames in a row; the
-// default rule delays only a cluster that went back from its children within the last
-// `hysteresis` frames (the paper's delays every refinement, and a walk that keeps meeting
-// new nodes leaves budget unspent). The switch back is at once in both, as the paper's.
+// flip every frame: the paper's rule (the technique's default) refines a cluster drawn in
+// the last frame into its children only once the walk has wanted to for more than
+// `hysteresis` frames in a row; the `flips` rule delays only a cluster that went back from
+// its children within the last `hysteresis` frames. The switch back is at once in both, as
+// the paper's.
 #pragma once
 
 #include <cstdint>
@@ -68,7 +68,7 @@ struct SelectionView {
   // chosen boxes of an atlas page are one multi-draw, gathered into one draw beyond 64.
   double triangles_per_draw = 0.0;
   int hysteresis = 0;  // under a budget: frames a refinement waits (0: none)
-  HysteresisRule hysteresis_rule = HysteresisRule::flips;
+  HysteresisRule hysteresis_rule = HysteresisRule::paper;
   const OcclusionMap* occlusion = nullptr;  // what it hides is not drawn, if given
   // Errors from the accuracy tables (image errors, by the direction each node and object is
   // seen from), if given; else the geometric errors.
