@@ -212,8 +212,9 @@ const TechniqueDescriptor clusters_descriptor{
       o.accuracy.comparator =
           v.text("comparator") == "edges" ? Comparator::edges : Comparator::ssim;
       o.accuracy.threshold = v.number("accuracy_threshold");
-      o.image_errors = v.text("errors") != "geometric";
-      o.geometric_below_tables = v.text("errors") == "image";
+      o.errors = v.text("errors") == "tables"      ? ClustersOptions::Errors::tables
+                 : v.text("errors") == "geometric" ? ClustersOptions::Errors::geometric
+                                                   : ClustersOptions::Errors::image;
       o.benefit = {float(v.number("benefit_size")), float(v.number("benefit_focus")),
                    float(v.number("benefit_speed")), float(v.number("benefit_semantics"))};
       o.hysteresis = v.integer("hysteresis");
@@ -361,9 +362,9 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   sv.error_px = options_.error_px;
   sv.hysteresis = options_.hysteresis;
   sv.hysteresis_rule = options_.hysteresis_rule;
-  if (options_.image_errors && !accuracy_.empty()) {
+  if (options_.errors != ClustersOptions::Errors::geometric && !accuracy_.empty()) {
     sv.accuracy = &accuracy_;
-    if (options_.geometric_below_tables) sv.accuracy_finest_px = accuracy_px_;
+    if (options_.errors == ClustersOptions::Errors::image) sv.accuracy_finest_px = accuracy_px_;
   }
   sv.benefit = options_.benefit;
   sv.forward = view.pose.forward();
@@ -391,13 +392,16 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   upload_frame_ = false;
   if (input.budget.target_ms > 0.0) {
     const double target_ms = 0.9 * input.budget.target_ms;
-    sv.max_triangles = cost_.ready() ? cost_.triangles_within(target_ms) : 0.0;
-    // Frames of one count cannot tell the fixed part from the triangles' (the model then
-    // charges all to the triangles, and the 892 triangles of the 10M city's root cluster at
-    // 5 us each never afford a refinement): while the last frame was under the budget, ask
-    // for twice its triangles, so that the counts vary.
-    if (cost_.ready() && !cost_.separated() && input.budget.last_frame_ms < target_ms)
-      sv.max_triangles = std::max(sv.max_triangles, 2.0 * double(input.budget.last_triangles));
+    sv.max_triangles = 0.0;
+    if (cost_.ready()) {
+      sv.max_triangles = cost_.triangles_within(target_ms);
+      // Frames of one count cannot tell the fixed part from the triangles' (the model then
+      // charges all to the triangles, and the 892 triangles of the 10M city's root cluster at
+      // 5 us each never afford a refinement): while the last frame was under the budget, ask
+      // for twice its triangles, so that the counts vary.
+      if (!cost_.separated() && input.budget.last_frame_ms < target_ms)
+        sv.max_triangles = std::max(sv.max_triangles, 2.0 * double(input.budget.last_triangles));
+    }
     sv.triangles_per_draw = cost_.triangles_per_draw();
   }
   const SelectionStats stats = selection_->select(sv, options_.traversal, choices_);

@@ -31,10 +31,11 @@ struct ClustersOptions {
   BoxSetOptions box;
   bool accuracy_tables = true;  // bake the accuracy tables
   AccuracyOptions accuracy;
-  bool image_errors = true;  // select by the tables' errors where the pack has them
-  // ... down to the tables' finest texel, the geometric error below it (false: the tables'
-  // errors at every scale, extrapolated below their finest texel)
-  bool geometric_below_tables = true;
+  // Where the pack has tables: image, their errors down to their finest texel and the
+  // geometric ones below it; tables, their errors at every scale (extrapolated below their
+  // finest texel); geometric, the geometric errors alone.
+  enum class Errors : uint8_t { image, tables, geometric };
+  Errors errors = Errors::image;
   BenefitWeights benefit;
   float error_px = 1.0f;  // the largest projected geometric error, pixels
   ClusterTraversal traversal = ClusterTraversal::refined;
@@ -67,7 +68,7 @@ class ClustersTechnique final : public Technique {
   size_t clusters_ = 0;  // nodes of tree_ with a cluster
   BoxSet boxes_;         // its pages go to the renderer with the first frame (then emptied)
   AccuracyTable accuracy_;
-  float accuracy_px_ = 0.0f;  // texels across a subject at the tables' finest comparison
+  float accuracy_px_ = 0.0f;            // texels across a subject at the tables' finest comparison
   std::vector<MeshHandle> box_meshes_;  // per page
   std::vector<TextureHandle> box_textures_;
   std::vector<uint32_t> box_first_, box_count_;  // per box: its indices in its page's mesh
