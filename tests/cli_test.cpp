@@ -187,13 +187,37 @@ TEST(Cli, GenerateCityIsDeterministicAndInfoReadsIt) {
     EXPECT_NE(info.output.find(kind), std::string::npos) << info.output;
 }
 
+TEST(Cli, GenerateBuildingGivesRoomsAndAnInteriorPath) {
+  TempDir dir;
+  auto r = run_farfield("generate building --floors 2 --rooms 4 --books 5 -q --out " +
+                        quoted(dir.file("b.ffscene")));
+  ASSERT_EQ(r.exit_status, 0) << r.output;
+  auto info = run_farfield("info " + quoted(dir.file("b.ffscene")));
+  EXPECT_EQ(info.exit_status, 0);
+  EXPECT_NE(info.output.find("cells:       16"), std::string::npos) << info.output;
+  r = run_farfield("path " + quoted(dir.file("b.ffscene")) + " --kind interior --frames 50 --out " +
+                   quoted(dir.file("p.json")));
+  EXPECT_EQ(r.exit_status, 0) << r.output;
+  EXPECT_NE(r.output.find("interior path, 50 frames"), std::string::npos) << r.output;
+  // A scene without rooms has no interior path, and nothing is written.
+  ASSERT_EQ(run_farfield("generate city --blocks 1 -q --out " + quoted(dir.file("c.ffscene")))
+                .exit_status,
+            0);
+  r = run_farfield("path " + quoted(dir.file("c.ffscene")) + " --kind interior --out " +
+                   quoted(dir.file("q.json")));
+  EXPECT_EQ(r.exit_status, 1);
+  EXPECT_NE(r.output.find("cells and portals"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("q.json")));
+}
+
 TEST(Cli, GenerateRejectsAbsurdOptionsAndWritesNothing) {
   TempDir dir;
   for (const char* options :
        {"city --block-length -3", "city --blocks 0", "city --tree-distance nan",
         "city --max-height 0", "city --target-triangles 999999999999999",
         "field --mesh missing.obj --count 4", "field --count 0 --mesh M",
-        "field --spacing -1 --mesh M"}) {
+        "field --spacing -1 --mesh M", "building --floors 0", "building --rooms 2",
+        "building --storey nan"}) {
     std::string args = "generate ";
     args += options;
     args += " --out " + quoted(dir.file("x.ffscene"));

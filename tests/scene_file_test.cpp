@@ -1,10 +1,9 @@
 #include "farfield/scene/scene_file.hpp"
 
 #include <gtest/gtest.h>
+#include <xxhash.h>
 
 #include <cstring>
-
-#include <xxhash.h>
 
 #include "test_util.hpp"
 
@@ -121,16 +120,16 @@ TEST(SceneFile, UnknownSectionsAreSkippedUnlessRequired) {
   const Scene scene = test::make_textured_scene();
   ASSERT_TRUE(write_scene(scene, dir.file("t.ffscene")));
   const std::string file = test::read_file(dir.file("t.ffscene"));
-  const std::string optional = with_extra_section(file, "portals", 0);
+  const std::string optional = with_extra_section(file, "wormholes", 0);
   auto read = parse_scene(std::as_bytes(std::span(optional.data(), optional.size())), "f");
   ASSERT_TRUE(read) << read.error().message;
   EXPECT_EQ(scene_fingerprint(*read), scene_fingerprint(scene));
-  const std::string required = with_extra_section(file, "portals", 1);
+  const std::string required = with_extra_section(file, "wormholes", 1);
   read = parse_scene(std::as_bytes(std::span(required.data(), required.size())), "f");
   ASSERT_FALSE(read);
   EXPECT_NE(read.error().message.find("needs a newer farfield"), std::string::npos)
       << read.error().message;
-  EXPECT_NE(read.error().message.find("portals"), std::string::npos);
+  EXPECT_NE(read.error().message.find("wormholes"), std::string::npos);
 }
 
 TEST(SceneFile, SameSceneGivesSameBytes) {

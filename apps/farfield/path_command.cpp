@@ -1,12 +1,12 @@
-// farfield path SCENE --kind street|fly|orbit --frames N --out path.json
+// farfield path SCENE --kind street|fly|orbit|interior --frames N --out path.json
 #include <cstdio>
-
 #include <glm/geometric.hpp>
 
 #include "commands.hpp"
 #include "farfield/core/camera_path.hpp"
 #include "farfield/scene/path_generator.hpp"
 #include "farfield/scene/scene_file.hpp"
+#include "farfield/spatial/interior_path.hpp"
 
 namespace farfield::cli {
 
@@ -20,27 +20,29 @@ void add_path_command(CLI::App& root, std::vector<Command>& commands) {
   CLI::App* cmd = root.add_subcommand(
       "path",
       "Make a camera path through a scene for 'bench' and 'view': street (at eye height "
-      "along the streets of a generated city), fly (a loop above the roofs) or orbit "
-      "(a circle around the scene, looking at its centre)");
+      "along the streets of a generated city), fly (a loop above the roofs), orbit "
+      "(a circle around the scene, looking at its centre) or interior (room to room through "
+      "doors and up stairs, in a scene with cells and portals such as a generated building)");
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
-  cmd->add_option("--kind", p.kind, "street, fly or orbit")
-      ->check(CLI::IsMember({"street", "fly", "orbit"}))
+  cmd->add_option("--kind", p.kind, "street, fly, orbit or interior")
+      ->check(CLI::IsMember({"street", "fly", "orbit", "interior"}))
       ->capture_default_str();
   cmd->add_option("--frames", p.frames, "Number of frames")->capture_default_str();
   cmd->add_option("--speed", p.speed,
-                  "Metres per frame; 0: 1.5 for street, one loop over all frames for fly and "
-                  "orbit")
+                  "Metres per frame; 0: 1.5 for street, 0.15 for interior, one loop over all "
+                  "frames for fly and orbit")
       ->capture_default_str();
   cmd->add_option("--seed", p.seed, "Random seed of the turns of a street path")
       ->capture_default_str();
-  cmd->add_option("--eye-height", p.eye_height, "Eye height above the street, m (street)")
+  cmd->add_option("--eye-height", p.eye_height, "Eye height above the ground, m (street, interior)")
       ->capture_default_str();
   cmd->add_option("--out,-o", s->out, "Output path .json file")->required();
   commands.push_back(
       {cmd, [s] {
          auto scene = read_scene(s->scene);
          if (!scene) return fail(scene.error().message);
-         auto path = generate_path(*scene, s->path);
+         auto path = s->path.kind == "interior" ? interior_path(*scene, s->path)
+                                                : generate_path(*scene, s->path);
          if (!path) {  // name the scene, unless it is an option that is wrong
            const std::string& message = path.error().message;
            return fail(message.starts_with("--") ? message : s->scene + ": " + message);

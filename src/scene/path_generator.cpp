@@ -9,8 +9,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "farfield/core/text.hpp"
 #include "farfield/core/assert.hpp"
+#include "farfield/core/text.hpp"
 #include "random.hpp"
 
 namespace farfield {
@@ -446,9 +446,11 @@ CameraPath orbit_path(const Scene& scene, const PathOptions& o) {
   return path;
 }
 
-Result<void> validate(const PathOptions& o) {
-  if (o.kind != "street" && o.kind != "fly" && o.kind != "orbit")
-    return make_error("--kind must be street, fly or orbit (got \"", o.kind, "\")");
+}  // namespace
+
+Result<void> validate_path_options(const PathOptions& o) {
+  if (o.kind != "street" && o.kind != "fly" && o.kind != "orbit" && o.kind != "interior")
+    return make_error("--kind must be street, fly, orbit or interior (got \"", o.kind, "\")");
   if (o.frames == 0) return make_error("--frames must be at least 1");
   if (o.frames > kMostFrames)
     return make_error("--frames must be at most ", std::to_string(kMostFrames), " (got ",
@@ -462,10 +464,10 @@ Result<void> validate(const PathOptions& o) {
   return {};
 }
 
-}  // namespace
-
 Result<CameraPath> generate_path(const Scene& scene, const PathOptions& options) {
-  if (auto ok = validate(options); !ok) return ok.error();
+  if (auto ok = validate_path_options(options); !ok) return ok.error();
+  if (options.kind == "interior")
+    return make_error("interior paths are made by interior_path (spatial/interior_path.hpp)");
   if (scene.bounds.empty())
     return make_error("the scene is empty: there is nothing to walk around");
   if (options.kind == "fly") return fly_path(scene, options);

@@ -1,12 +1,11 @@
 #include "farfield/scene/scene.hpp"
 
+#include <xxhash.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-
 #include <glm/geometric.hpp>
-
-#include <xxhash.h>
 
 #include "farfield/core/assert.hpp"
 
@@ -43,7 +42,9 @@ uint64_t Scene::byte_size() const {
   for (const Texture& t : textures) texture_names += t.name.size() + sizeof(Texture);
   return objects.size() * sizeof(Object) + materials.size() * sizeof(Material) +
          vertices.size() * sizeof(Vertex) + indices.size() * sizeof(uint32_t) + names.size() +
-         uvs.size() * sizeof(glm::vec2) + texture_names + texture_bytes();
+         uvs.size() * sizeof(glm::vec2) + texture_names + texture_bytes() +
+         cells.size() * sizeof(Cell) + cell_objects.size() * sizeof(uint32_t) +
+         portals.size() * sizeof(Portal) + portal_points.size() * sizeof(glm::vec3);
 }
 
 uint64_t Scene::texture_bytes() const {
@@ -204,6 +205,13 @@ uint64_t scene_fingerprint(const Scene& s) {
       XXH3_64bits_update(state, header, sizeof header);
     }
   }
+  // Cells and portals only where a scene has them: scenes without keep their fingerprint.
+  if (!s.cells.empty()) {
+    XXH3_64bits_update(state, s.cells.data(), s.cells.size() * sizeof(Cell));
+    XXH3_64bits_update(state, s.cell_objects.data(), s.cell_objects.size() * sizeof(uint32_t));
+    XXH3_64bits_update(state, s.portals.data(), s.portals.size() * sizeof(Portal));
+    XXH3_64bits_update(state, s.portal_points.data(), s.portal_points.size() * sizeof(glm::vec3));
+  }
   const uint64_t hash = XXH3_64bits_digest(state);
   XXH3_freeState(state);
   return hash;
@@ -264,7 +272,7 @@ std::string validate_scene(const Scene& s) {
         !std::isfinite(v.position.z))
       return "a vertex position is not finite";
   }
-  return {};
+  return validate_cells(s);
 }
 
 }  // namespace farfield

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <xxhash.h>
 
 #include <algorithm>
 #include <array>
@@ -12,8 +13,6 @@
 #include <filesystem>
 #include <functional>
 #include <string_view>
-
-#include <xxhash.h>
 
 #include "farfield/core/atomic_file.hpp"
 #include "farfield/core/file_reading.hpp"
@@ -57,7 +56,8 @@ Error corrupted(const std::string& name, const std::string& what) {
   return make_error(name, ": corrupted .ffscene file (", what, ")");
 }
 
-// ---- Version 2: a header, a table of tagged sections, the sections ------------------------
+// ---- Versions 2 and 3: a header, a table of tagged sections, the sections (3 adds cells)
+// ------------------------
 
 struct HeaderV2 {
   char magic[8];
@@ -107,11 +107,15 @@ enum Tag {
   kTextures,
   kTextureNames,
   kImages,
+  kCells,
+  kCellObjects,
+  kPortals,
+  kPortalPoints,
   kTagCount
 };
-constexpr const char* kTagNames[kTagCount] = {"objects",  "materials",     "vertices",
-                                              "indices",  "names",         "uvs",
-                                              "textures", "texture_names", "images"};
+constexpr const char* kTagNames[kTagCount] = {
+    "objects",       "materials", "vertices", "indices",      "names",   "uvs",          "textures",
+    "texture_names", "images",    "cells",    "cell_objects", "portals", "portal_points"};
 constexpr uint32_t kTagElementSize[kTagCount] = {sizeof(Object),
                                                  sizeof(Material),
                                                  sizeof(Vertex),
@@ -120,7 +124,11 @@ constexpr uint32_t kTagElementSize[kTagCount] = {sizeof(Object),
                                                  sizeof(glm::vec2),
                                                  sizeof(TextureEntry),
                                                  1,
-                                                 1};
+                                                 1,
+                                                 sizeof(Cell),
+                                                 sizeof(uint32_t),
+                                                 sizeof(Portal),
+                                                 sizeof(glm::vec3)};
 
 std::string tag_text(const SectionEntryV2& e) {
   return std::string(e.tag, strnlen(e.tag, sizeof e.tag));
@@ -152,6 +160,12 @@ SectionsToWrite sections_of(const Scene& s) {
               {kIndices, std::as_bytes(std::span(s.indices))},
               {kNames, std::as_bytes(std::span(s.names.data(), s.names.size()))}};
   if (!s.uvs.empty()) out.list.push_back({kUvs, std::as_bytes(std::span(s.uvs))});
+  if (!s.cells.empty()) {
+    out.list.push_back({kCells, std::as_bytes(std::span(s.cells))});
+    out.list.push_back({kCellObjects, std::as_bytes(std::span(s.cell_objects))});
+    out.list.push_back({kPortals, std::as_bytes(std::span(s.portals))});
+    out.list.push_back({kPortalPoints, std::as_bytes(std::span(s.portal_points))});
+  }
   if (s.textures.empty()) return out;
   uint64_t image_offset = 0;
   for (const Texture& t : s.textures) {
@@ -243,6 +257,11 @@ Result<Scene> read_v2(const char* head, uint64_t file_size, const std::string& n
   const bool any_texture = found[kTextures] || found[kTextureNames] || found[kImages];
   if (any_texture && !(found[kTextures] && found[kTextureNames] && found[kImages]))
     return corrupted(name, "texture sections incomplete");
+  const bool any_cell =
+      found[kCells] || found[kCellObjects] || found[kPortals] || found[kPortalPoints];
+  if (any_cell &&
+      !(found[kCells] && found[kCellObjects] && found[kPortals] && found[kPortalPoints]))
+    return corrupted(name, "cell and portal sections incomplete");
 
   Scene scene;
   std::string texture_names;
@@ -269,6 +288,16 @@ Result<Scene> read_v2(const char* head, uint64_t file_size, const std::string& n
   if (ok) ok = verify_section(kNames, scene.names.data());
   if (ok && found[kUvs]) ok = read_array(scene.uvs, *found[kUvs], read);
   if (ok && found[kUvs]) ok = verify_section(kUvs, scene.uvs.data());
+  if (ok && any_cell) {
+    ok = read_array(scene.cells, *found[kCells], read);
+    if (ok) ok = verify_section(kCells, scene.cells.data());
+    if (ok) ok = read_array(scene.cell_objects, *found[kCellObjects], read);
+    if (ok) ok = verify_section(kCellObjects, scene.cell_objects.data());
+    if (ok) ok = read_array(scene.portals, *found[kPortals], read);
+    if (ok) ok = verify_section(kPortals, scene.portals.data());
+    if (ok) ok = read_array(scene.portal_points, *found[kPortalPoints], read);
+    if (ok) ok = verify_section(kPortalPoints, scene.portal_points.data());
+  }
   if (ok && any_texture) {
     ok = read_array(textures, *found[kTextures], read);
     if (ok) ok = verify_section(kTextures, textures.data());
@@ -396,7 +425,7 @@ Result<Scene> read_any(uint64_t file_size, const std::string& name, bool verify,
   Result<Scene> scene = make_error("");
   if (version == 1) {
     scene = read_v1(file_size, name, verify, read);
-  } else if (version == kSceneFileVersion) {
+  } else if (version == 2 || version == kSceneFileVersion) {
     if (file_size < sizeof(HeaderV2))
       return make_error(name, ": truncated .ffscene file (", std::to_string(file_size),
                         " bytes, shorter than its header)");

@@ -35,6 +35,13 @@ std::string summarize_scene(const SceneSummaryInput& in) {
     out += formatted("textures:    %zu (%llu bytes compressed, %.1f Mtexels)\n", s.textures.size(),
                      (unsigned long long)s.texture_bytes(), double(texels) / 1e6);
   }
+  if (!s.cells.empty()) {
+    uint64_t listed = 0;
+    for (const Cell& c : s.cells) listed += c.object_count;
+    out +=
+        formatted("cells:       %zu (rooms; %.1f objects seen from each on average), %zu portals\n",
+                  s.cells.size(), double(listed) / double(s.cells.size()), s.portals.size());
+  }
   out += formatted("memory:      %llu bytes (%.1f bytes per triangle)\n",
                    (unsigned long long)s.byte_size(),
                    s.triangle_count() ? double(s.byte_size()) / double(s.triangle_count()) : 0.0);

@@ -7,6 +7,7 @@
 #include "composite/composite_technique.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
 #include "octree/octree_technique.hpp"
+#include "portal/portal_technique.hpp"
 #include "stratified/stratified_technique.hpp"
 
 namespace farfield {
@@ -14,8 +15,9 @@ namespace farfield {
 namespace {
 
 const std::array kTechniques = {
-    &brute_descriptor,      &octree_descriptor,    &octree_paper_descriptor, &colorcube_descriptor,
-    &stratified_descriptor, &composite_descriptor, &clusters_descriptor,
+    &brute_descriptor,     &octree_descriptor,     &octree_paper_descriptor,
+    &colorcube_descriptor, &stratified_descriptor, &composite_descriptor,
+    &clusters_descriptor,  &portal_descriptor,     &portal_paper_descriptor,
 };
 
 }  // namespace

@@ -12,16 +12,16 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include <glm/vec2.hpp>
-#include <glm/vec3.hpp>
-#include <glm/vec4.hpp>
-
 #include "farfield/core/bounds.hpp"
+#include "farfield/scene/cells.hpp"
 
 namespace farfield {
 
@@ -115,13 +115,27 @@ struct Scene {
   std::string names;           // object names, concatenated without separators
   std::vector<glm::vec2> uvs;  // textured objects' texture coordinates (Object::first_uv)
   std::vector<Texture> textures;
-  Bounds3 bounds;  // of all vertices
+  // Rooms and the portals that join them (cells.hpp); empty for scenes without.
+  std::vector<Cell> cells;
+  std::vector<uint32_t> cell_objects;  // Cell::first_object
+  std::vector<Portal> portals;
+  std::vector<glm::vec3> portal_points;  // Portal::first_point
+  Bounds3 bounds;                        // of all vertices
 
   uint64_t triangle_count() const { return indices.size() / 3; }
   bool textured(const Object& o) const { return materials[o.material].textured(); }
   uint64_t texture_bytes() const;  // compressed, as stored
   std::string_view object_name(const Object& o) const {
     return std::string_view(names).substr(o.name_offset, o.name_size);
+  }
+  std::string_view cell_name(const Cell& c) const {
+    return std::string_view(names).substr(c.name_offset, c.name_size);
+  }
+  std::span<const uint32_t> objects_of(const Cell& c) const {
+    return std::span(cell_objects).subspan(c.first_object, c.object_count);
+  }
+  std::span<const glm::vec3> points_of(const Portal& p) const {
+    return std::span(portal_points).subspan(p.first_point, p.point_count);
   }
   // Bytes held by the arrays (not counting vector slack).
   uint64_t byte_size() const;

@@ -4,11 +4,12 @@
 // section table), a table of tagged sections (name, offset, bytes, element size, XXH3-64
 // checksum, whether a reader must know it), then the sections, each 64-byte aligned: objects,
 // materials, vertices, indices, names, and for textured scenes uvs, textures, texture_names,
-// images. Later versions add sections; a reader skips those it does not know unless they are
-// marked required. Version 1 files (five fixed sections) are still read. Written atomically:
-// a temporary file in the destination's folder, flushed, then renamed over the destination.
-// Reading checks size, checksums and every scene invariant, so a truncated, corrupted or
-// hand-crafted file is refused with a message rather than trusted.
+// images, and for scenes with rooms cells, cell_objects, portals, portal_points. Later versions add
+// sections; a reader skips those it does not know unless they are marked required. Version 1 files
+// (five fixed sections) are still read. Written atomically: a temporary file in the destination's
+// folder, flushed, then renamed over the destination. Reading checks size, checksums and every
+// scene invariant, so a truncated, corrupted or hand-crafted file is refused with a message rather
+// than trusted.
 #pragma once
 
 #include <cstddef>
@@ -21,7 +22,9 @@
 
 namespace farfield {
 
-inline constexpr uint32_t kSceneFileVersion = 2;  // written; 1 and 2 are read
+// Written; 1 to 3 are read. Version 3 added cells and portals (sections cells, cell_objects,
+// portals, portal_points, written only by scenes that have cells).
+inline constexpr uint32_t kSceneFileVersion = 3;
 
 struct SceneFileInfo {
   uint32_t version = 0;

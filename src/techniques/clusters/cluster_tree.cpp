@@ -24,7 +24,7 @@ constexpr const char* kUvs = "clusters/tree_uvs";
 constexpr const char* kIndices = "clusters/tree_indices";
 
 // A cell being split: its cube and the objects wholly inside it.
-struct Cell {
+struct OctantCell {
   Bounds3 cube;
   std::vector<uint32_t> objects;
   int depth = 0;
@@ -70,8 +70,8 @@ Bounds3 octant_cube(const Bounds3& cube, int octant) {
 // The objects of a cell split into those across its middle and its octants' (non-empty ones);
 // a cell whose objects all fall in one octant is replaced by that octant, so that no node
 // has one child and nothing of its own.
-void split(Cell& cell, const Scene& scene, const ClusterTreeOptions& o, std::vector<uint32_t>& own,
-           std::vector<Cell>& children) {
+void split(OctantCell& cell, const Scene& scene, const ClusterTreeOptions& o,
+           std::vector<uint32_t>& own, std::vector<OctantCell>& children) {
   for (;;) {
     own.clear();
     children.clear();
@@ -79,7 +79,7 @@ void split(Cell& cell, const Scene& scene, const ClusterTreeOptions& o, std::vec
       own = std::move(cell.objects);
       return;
     }
-    Cell octants[8];
+    OctantCell octants[8];
     for (uint32_t object : cell.objects) {
       const int k = octant_of(cell.cube, scene.objects[object].bounds, o.loose);
       (k < 0 ? own : octants[k].objects).push_back(object);
@@ -134,20 +134,20 @@ ClusterTree build_cluster_cells(const Scene& scene, const ClusterTreeOptions& o)
   Bounds3 all;
   for (const Object& object : scene.objects) all.expand(object.bounds);
   // Breadth first, so that children are consecutive; each node's own objects kept aside.
-  std::vector<Cell> queue(1);
+  std::vector<OctantCell> queue(1);
   queue[0].cube = cube_around(all);
   queue[0].objects.resize(count);
   std::iota(queue[0].objects.begin(), queue[0].objects.end(), 0u);
   std::vector<std::vector<uint32_t>> own;
   std::vector<uint32_t> here;
-  std::vector<Cell> children;
+  std::vector<OctantCell> children;
   tree.nodes.resize(1);
   for (size_t i = 0; i < queue.size(); ++i) {
     split(queue[i], scene, o, here, children);
     own.push_back(here);
     tree.nodes[i].first_child = uint32_t(tree.nodes.size());
     tree.nodes[i].child_count = uint32_t(children.size());
-    for (Cell& child : children) {
+    for (OctantCell& child : children) {
       queue.push_back(std::move(child));
       tree.nodes.emplace_back();
     }
