@@ -67,7 +67,7 @@ TEST(BuildingGenerator, RefusesAbsurdOptions) {
            {[](BuildingOptions& o) { o.rooms_per_side = 2; }, "--rooms"},
            {[](BuildingOptions& o) { o.room_depth = 1.0; }, "--room-depth"},
            {[](BuildingOptions& o) { o.storey = NAN; }, "--storey"},
-           {[](BuildingOptions& o) { o.segment_rooms = 100; }, "--segment-rooms"}}) {
+           {[](BuildingOptions& o) { o.segment_rooms = 0; }, "--segment-rooms"}}) {
     BuildingOptions o = small_building();
     change(o);
     auto scene = generate_building(o, quiet);

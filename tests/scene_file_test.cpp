@@ -115,6 +115,31 @@ std::string with_extra_section(const std::string& file, const char* tag, uint32_
   return out;
 }
 
+// Version 2 (before cells) has version 3's layout without the cell sections: still read, to the
+// same fingerprint.
+TEST(SceneFile, Version2FilesStillRead) {
+  TempDir dir;
+  const Scene scene = test::make_textured_scene();
+  ASSERT_TRUE(write_scene(scene, dir.file("t.ffscene")));
+  std::string file = test::read_file(dir.file("t.ffscene"));
+  const uint32_t version = 2;
+  std::memcpy(file.data() + 8, &version, 4);
+  uint32_t count;
+  std::memcpy(&count, file.data() + 40, 4);
+  XXH3_state_t* state = XXH3_createState();
+  XXH3_64bits_reset(state);
+  XXH3_64bits_update(state, file.data(), 56);
+  XXH3_64bits_update(state, file.data() + 64, count * 48);
+  const uint64_t header = XXH3_64bits_digest(state);
+  XXH3_freeState(state);
+  std::memcpy(file.data() + 56, &header, 8);
+  SceneFileInfo info;
+  auto read = parse_scene(std::as_bytes(std::span(file.data(), file.size())), "v2", true, &info);
+  ASSERT_TRUE(read) << read.error().message;
+  EXPECT_EQ(info.version, 2u);
+  EXPECT_EQ(scene_fingerprint(*read), scene_fingerprint(scene));
+}
+
 TEST(SceneFile, UnknownSectionsAreSkippedUnlessRequired) {
   TempDir dir;
   const Scene scene = test::make_textured_scene();

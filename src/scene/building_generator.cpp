@@ -514,8 +514,8 @@ Result<void> validate_building_options(const BuildingOptions& o) {
   if (o.floors < 1 || o.floors > 200) return bad("floors", "in [1, 200]", o.floors);
   if (o.rooms_per_side < 3 || o.rooms_per_side > 2000)
     return bad("rooms", "in [3, 2000] (two slots hold the stairwell)", o.rooms_per_side);
-  if (o.segment_rooms < 1 || o.segment_rooms > o.rooms_per_side)
-    return bad("segment-rooms", "in [1, --rooms]", o.segment_rooms);
+  if (o.segment_rooms < 1 || o.segment_rooms > 2000)
+    return bad("segment-rooms", "in [1, 2000]", o.segment_rooms);
   if (!(o.room_width >= 3.0 && o.room_width <= 50.0))
     return bad("room-width", "in [3, 50] m", o.room_width);
   if (!(o.room_depth >= 5.5 && o.room_depth <= 50.0))

@@ -1,9 +1,12 @@
 #include "farfield/scene/cells.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 
+#include "farfield/core/text.hpp"
 #include "farfield/scene/scene.hpp"
 
 namespace farfield {
@@ -65,6 +68,73 @@ std::string portal_polygon_problem(std::span<const glm::vec3> points) {
     }
   }
   return {};
+}
+
+Result<std::vector<glm::vec3>> portal_polygon_of_mesh(std::span<const glm::vec3> positions,
+                                                      std::span<const uint32_t> triangles) {
+  glm::dvec3 normal(0.0);
+  double area = 0.0;
+  for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const glm::dvec3 a(positions[triangles[t]]), b(positions[triangles[t + 1]]),
+        c(positions[triangles[t + 2]]);
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    normal += n;
+    area += 0.5 * glm::length(n);
+  }
+  const double length = glm::length(normal);
+  if (!(length > 1e-12) || positions.empty()) return make_error("has no area");
+  normal /= length;
+  // A basis of the plane, and the hull of the points in it (Andrew's monotone chain).
+  const glm::dvec3 u = glm::normalize(std::abs(normal.x) < 0.9 ? glm::cross(normal, {1, 0, 0})
+                                                               : glm::cross(normal, {0, 1, 0}));
+  const glm::dvec3 v = glm::cross(normal, u);
+  std::vector<std::pair<glm::dvec2, size_t>> flat;
+  for (size_t i = 0; i < positions.size(); ++i)
+    flat.push_back(
+        {{glm::dot(glm::dvec3(positions[i]), u), glm::dot(glm::dvec3(positions[i]), v)}, i});
+  std::sort(flat.begin(), flat.end(), [](const auto& a, const auto& b) {
+    return a.first.x < b.first.x || (a.first.x == b.first.x && a.first.y < b.first.y);
+  });
+  auto turn = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+  };
+  std::vector<size_t> hull;
+  std::vector<glm::dvec2> at;
+  for (int pass = 0; pass < 2; ++pass) {
+    const size_t start = at.size();
+    for (size_t k = 0; k < flat.size(); ++k) {
+      const auto& [p, i] = pass == 0 ? flat[k] : flat[flat.size() - 1 - k];
+      while (at.size() >= start + 2 && turn(at[at.size() - 2], at.back(), p) <= 1e-12) {
+        at.pop_back();
+        hull.pop_back();
+      }
+      at.push_back(p);
+      hull.push_back(i);
+    }
+    at.pop_back();  // each chain's last point starts the other
+    hull.pop_back();
+  }
+  double hull_area = 0.0;
+  for (size_t k = 0; k < at.size(); ++k) {
+    const glm::dvec2& a = at[k];
+    const glm::dvec2& b = at[(k + 1) % at.size()];
+    hull_area += 0.5 * (a.x * b.y - a.y * b.x);
+  }
+  std::vector<glm::vec3> polygon;
+  for (size_t i : hull) polygon.push_back(positions[i]);
+  if (const std::string problem = portal_polygon_problem(polygon); !problem.empty())
+    return make_error(problem);
+  // Every vertex on the plane; the triangles fill the hull.
+  const auto plane = portal_plane(polygon);
+  const float tolerance = std::max(1e-3f, 1e-3f * float(std::sqrt(hull_area)));
+  for (const glm::vec3& p : positions)
+    if (std::abs(plane->signed_distance(p)) > tolerance)
+      return make_error("is not planar: a vertex lies ",
+                        number_text(std::abs(plane->signed_distance(p))), " m off its plane");
+  if (area < 0.99 * hull_area)
+    return make_error("is not convex: its triangles cover ", number_text(100.0 * area / hull_area),
+                      "% of their hull");
+  return polygon;
 }
 
 std::string validate_cells(const Scene& s) {

@@ -1,11 +1,16 @@
 #include "farfield/scene/import.hpp"
 
+#include <assimp/GltfMaterial.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <assimp/Importer.hpp>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -13,6 +18,10 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -21,16 +30,6 @@
 #include <unordered_map>
 #include <utility>
 #include <vector>
-
-#include <assimp/GltfMaterial.h>
-#include <assimp/Importer.hpp>
-#include <assimp/material.h>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
-#include <glm/geometric.hpp>
-#include <glm/mat3x3.hpp>
-#include <glm/mat4x4.hpp>
-#include <glm/matrix.hpp>
 
 #include "farfield/core/assert.hpp"
 #include "farfield/core/file_reading.hpp"
@@ -473,23 +472,138 @@ class Converter {
 
   Result<void> run() {
     // Depth first with an explicit stack: a deep hierarchy cannot overflow the call stack.
-    std::vector<std::pair<const aiNode*, glm::dmat4>> stack{{ai_.mRootNode, root_}};
+    // Each entry carries the cell (room) its node lies in, if any (docs/techniques/portal.md).
+    struct Entry {
+      const aiNode* node;
+      glm::dmat4 parent;
+      int32_t cell;
+    };
+    std::vector<Entry> stack{{ai_.mRootNode, root_, -1}};
     while (!stack.empty()) {
-      const auto [node, parent] = stack.back();
+      auto [node, parent, cell] = stack.back();
       stack.pop_back();
       const glm::dmat4 world = parent * to_glm(node->mTransformation);
+      const std::string_view name = node->mName.C_Str();
+      const Role role = role_of(name);
+      if (role == Role::cell) {
+        cells_.push_back({std::string(name.substr(0, name.size() - 5)), {}, {}, false});
+        cell = int32_t(cells_.size() - 1);
+      }
       for (unsigned i = 0; i < node->mNumMeshes; ++i) {
         const aiMesh& mesh = *ai_.mMeshes[node->mMeshes[i]];
         if (!(mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;  // points, lines
+        if (role == Role::portal || role == Role::bound) {
+          if (auto r = add_cell_shape(role, name, mesh, world, cell); !r) return r;
+          continue;
+        }
         if (auto r = add_instance(*node, mesh, world); !r) return r;
+        if (scene_.objects.empty() || scene_.objects.size() - 1 < first_object_) continue;
+        (cell >= 0 ? cells_[cell].objects : shared_).push_back(uint32_t(scene_.objects.size() - 1));
       }
-      for (unsigned i = node->mNumChildren; i-- > 0;) stack.emplace_back(node->mChildren[i], world);
+      for (unsigned i = node->mNumChildren; i-- > 0;)
+        stack.push_back({node->mChildren[i], world, cell});
     }
     if (triangles_ == 0) return make_error(path_, ": contains no triangles");
-    return {};
+    return finish_cells();
   }
 
  private:
+  // Nodes named by the cell convention: "NAME-cell" (or "NAME-room") is a cell, "OTHER-portal"
+  // inside it a portal to cell OTHER, "-bound" inside it the cell's box (drawn by neither).
+  enum class Role { object, cell, portal, bound };
+  static Role role_of(std::string_view name) {
+    if (name.ends_with("-cell") || name.ends_with("-room")) return Role::cell;
+    if (name.ends_with("-portal")) return Role::portal;
+    if (name.ends_with("-bound")) return Role::bound;
+    return Role::object;
+  }
+  struct CellDraft {
+    std::string name;
+    Bounds3 bound;  // from a -bound node
+    std::vector<uint32_t> objects;
+    bool has_bound;
+  };
+  struct PortalDraft {
+    std::string node;  // for messages
+    int32_t cell;
+    std::string to;
+    std::vector<glm::vec3> points;
+  };
+
+  Result<void> add_cell_shape(Role role, std::string_view name, const aiMesh& mesh,
+                              const glm::dmat4& world, int32_t cell) {
+    std::vector<glm::vec3> points(mesh.mNumVertices);
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+      const aiVector3D& p = mesh.mVertices[v];
+      points[v] = glm::vec3(world * glm::dvec4(p.x, p.y, p.z, 1.0));
+    }
+    const std::string node(name);
+    if (cell < 0)
+      return make_error(path_, ": '", node, "' is not inside a cell (a node named NAME-cell)");
+    if (role == Role::bound) {
+      for (const glm::vec3& p : points) cells_[cell].bound.expand(p);
+      cells_[cell].has_bound = true;
+      return {};
+    }
+    std::vector<uint32_t> triangles;
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f)
+      if (mesh.mFaces[f].mNumIndices == 3)
+        triangles.insert(triangles.end(), mesh.mFaces[f].mIndices, mesh.mFaces[f].mIndices + 3);
+    auto polygon = portal_polygon_of_mesh(points, triangles);
+    if (!polygon) return make_error(path_, ": portal '", node, "' ", polygon.error().message);
+    portals_.push_back({node, cell, node.substr(0, node.size() - 7), std::move(*polygon)});
+    return {};
+  }
+
+  // The file's cells and portals into the scene: a cell's box from its -bound node or its
+  // objects; objects outside every cell are seen from all of them.
+  Result<void> finish_cells() {
+    if (cells_.empty()) {
+      if (!portals_.empty())
+        return make_error(path_, ": portal '", portals_[0].node, "' without cells");
+      return {};
+    }
+    const uint32_t base = uint32_t(scene_.cells.size());
+    for (CellDraft& c : cells_) {
+      Bounds3 box = c.bound;
+      if (!c.has_bound)
+        for (uint32_t o : c.objects) box.expand(scene_.objects[o].bounds);
+      if (box.empty())
+        return make_error(path_, ": cell '", c.name, "' has no meshes and no -bound node");
+      Cell cell;
+      cell.bounds = box;
+      cell.name_offset = uint32_t(scene_.names.size());
+      cell.name_size = uint32_t(c.name.size());
+      scene_.names += c.name;
+      cell.first_object = uint32_t(scene_.cell_objects.size());
+      scene_.cell_objects.insert(scene_.cell_objects.end(), c.objects.begin(), c.objects.end());
+      scene_.cell_objects.insert(scene_.cell_objects.end(), shared_.begin(), shared_.end());
+      cell.object_count = uint32_t(scene_.cell_objects.size()) - cell.first_object;
+      scene_.cells.push_back(cell);
+    }
+    for (PortalDraft& p : portals_) {
+      const auto to = std::find_if(cells_.begin(), cells_.end(),
+                                   [&](const CellDraft& c) { return c.name == p.to; });
+      if (to == cells_.end())
+        return make_error(path_, ": portal '", p.node, "' in cell '", cells_[p.cell].name,
+                          "' names cell '", p.to, "', which the file does not have");
+      const uint32_t other = uint32_t(to - cells_.begin());
+      if (other == uint32_t(p.cell))
+        return make_error(path_, ": portal '", p.node, "' leads from cell '", p.to, "' to itself");
+      // Counter-clockwise seen from its own cell: the normal points into it.
+      const auto plane = portal_plane(p.points);
+      const glm::vec3 inside = scene_.cells[base + p.cell].bounds.center();
+      const glm::vec3 beyond = scene_.cells[base + other].bounds.center();
+      if (plane->signed_distance(inside) < plane->signed_distance(beyond))
+        std::reverse(p.points.begin(), p.points.end());
+      scene_.portals.push_back({{base + uint32_t(p.cell), base + other},
+                                uint32_t(scene_.portal_points.size()),
+                                uint32_t(p.points.size())});
+      scene_.portal_points.insert(scene_.portal_points.end(), p.points.begin(), p.points.end());
+    }
+    return {};
+  }
+
   // "node/mesh", or one of them when the other is empty or the same; the file's stem and the
   // instance number when both are empty. Roots that a reader made up ("<OFFRoot>") count as
   // unnamed.
@@ -663,6 +777,10 @@ class Converter {
   ImportReport* report_ = nullptr;
   std::vector<glm::vec3> positions_;
   uint64_t instances_ = 0, triangles_ = 0;
+  size_t first_object_ = scene_.objects.size();  // this file's objects start here
+  std::vector<CellDraft> cells_;
+  std::vector<PortalDraft> portals_;
+  std::vector<uint32_t> shared_;  // objects outside every cell
 };
 
 // The sizes of a scene's arrays, to cut it back to after a failed import.
@@ -675,6 +793,10 @@ struct Snapshot {
         names(s.names.size()),
         uvs(s.uvs.size()),
         textures(s.textures.size()),
+        cells(s.cells.size()),
+        cell_objects(s.cell_objects.size()),
+        portals(s.portals.size()),
+        portal_points(s.portal_points.size()),
         bounds(s.bounds) {}
   void restore(Scene& s) const {
     s.objects.resize(objects);
@@ -684,9 +806,14 @@ struct Snapshot {
     s.names.resize(names);
     s.uvs.resize(uvs);
     s.textures.resize(textures);
+    s.cells.resize(cells);
+    s.cell_objects.resize(cell_objects);
+    s.portals.resize(portals);
+    s.portal_points.resize(portal_points);
     s.bounds = bounds;
   }
-  size_t objects, materials, vertices, indices, names, uvs, textures;
+  size_t objects, materials, vertices, indices, names, uvs, textures, cells, cell_objects, portals,
+      portal_points;
   Bounds3 bounds;
 };
 

@@ -12,8 +12,10 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "farfield/core/bounds.hpp"
+#include "farfield/core/result.hpp"
 
 namespace farfield {
 
@@ -51,6 +53,12 @@ std::optional<PortalPlane> portal_plane(std::span<const glm::vec3> points);
 // What is wrong with a polygon as a portal ("not planar: point 3 lies 0.2 m off its plane",
 // "not convex at point 2", "of no area"), or an empty string.
 std::string portal_polygon_problem(std::span<const glm::vec3> points);
+
+// The portal polygon a mesh stands for (an imported "-portal" node): its vertices' convex hull
+// in the plane of its triangles, counter-clockwise about the triangles' summed normal. An
+// error where the mesh has no area, is not planar, or does not fill its hull (not convex).
+Result<std::vector<glm::vec3>> portal_polygon_of_mesh(std::span<const glm::vec3> positions,
+                                                      std::span<const uint32_t> triangles);
 
 // Checks cells and portals against the scene (ranges, names, finite boxes, portal polygons,
 // cells joined); returns a message naming the first problem, or an empty string.

@@ -15,6 +15,11 @@
 // ImportOptions::drop_bad_textures (then the material keeps its colour, and the report names
 // what was dropped). A textured material on a mesh without texture coordinates is drawn
 // with its colour alone.
+//
+// Cells and portals by node names (docs/techniques/portal.md): "NAME-cell" (or "-room") is a
+// cell whose meshes are its objects, "OTHER-portal" inside it a portal to cell OTHER (its mesh
+// the polygon, not drawn), "ANY-bound" inside it the cell's box; objects outside every cell
+// are seen from all of them. A broken portal refuses the import, naming the node.
 #pragma once
 
 #include <span>
