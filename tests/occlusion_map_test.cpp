@@ -1,18 +1,19 @@
 // The occlusion map any technique can cull with, and the occluder boxes inside objects: what
 // the map calls hidden must lie behind an occluder along every line of sight, a box found
 // inside an object must meet none of its triangles.
+#include "farfield/spatial/occlusion_map.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
-
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 #include <glm/trigonometric.hpp>
+#include <random>
 
 #include "farfield/core/progress.hpp"
 #include "farfield/scene/city_generator.hpp"
 #include "farfield/spatial/occluders.hpp"
-#include "farfield/spatial/occlusion_map.hpp"
 #include "test_util.hpp"
 
 namespace farfield {
@@ -89,7 +90,7 @@ TEST(OcclusionMap, WhatItHidesIsBehindAnOccluderAlongEverySightLine) {
     view.pose.yaw_deg = 360.0f * unit(rng);
     view.pose.pitch_deg = -30.0f + 60.0f * unit(rng);
     OcclusionMap map;
-    map.reset(view, 1 + trial % 5);
+    map.reset(view, 2 + trial % 4);  // texel_px 1 samples pixel centres: the next test
     std::vector<Bounds3> occluders;
     for (int k = 0; k < 12; ++k) {
       const glm::vec3 c(-40.0f + 80.0f * unit(rng), -10.0f + 20.0f * unit(rng),
@@ -124,6 +125,79 @@ TEST(OcclusionMap, WhatItHidesIsBehindAnOccluderAlongEverySightLine) {
   }
   EXPECT_GT(hidden, 100);  // the test tests something
   EXPECT_GT(checked, 1000);
+}
+
+// At one pixel a texel the map samples pixel centres, and objects' own triangles occlude: a
+// box called hidden has, along the ray through every pixel centre that meets it, an occluder
+// triangle met first (both sides of each cuboid drawn: the test's rays meet any face).
+TEST(OcclusionMap, MeshOccludersHideOnlyWhatEveryPixelCentreSeesBehindThem) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  int hidden = 0, checked = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    View view = test_view();
+    view.pose.yaw_deg = 360.0f * unit(rng);
+    view.pose.pitch_deg = -30.0f + 60.0f * unit(rng);
+    Scene scene;
+    SceneBuilder b(scene);
+    const uint32_t material = b.add_material({});
+    std::vector<Bounds3> occluders;
+    for (int k = 0; k < 12; ++k) {
+      const glm::vec3 c(-40.0f + 80.0f * unit(rng), -10.0f + 20.0f * unit(rng),
+                        -40.0f + 80.0f * unit(rng));
+      const glm::vec3 s(1.0f + 15.0f * unit(rng), 1.0f + 15.0f * unit(rng),
+                        1.0f + 15.0f * unit(rng));
+      const Bounds3 box = box_at(c, s);
+      if (box.contains(view.pose.position)) continue;
+      b.begin_object("cuboid", ObjectKind::mesh, material);
+      test::add_cuboid(b, box.min, box.max);
+      b.end_object();
+      occluders.push_back(box);
+    }
+    OcclusionMap map;
+    map.reset(view, 1);
+    for (uint32_t o = 0; o < scene.objects.size(); ++o) map.add_mesh(scene, o, true);
+    map.finish();
+    const glm::mat4 inverse = glm::inverse(view.view_projection());
+    for (int q = 0; q < 300; ++q) {
+      const glm::vec3 c(-60.0f + 120.0f * unit(rng), -20.0f + 40.0f * unit(rng),
+                        -60.0f + 120.0f * unit(rng));
+      const Bounds3 box = box_at(c, glm::vec3(0.5f + 4.0f * unit(rng)));
+      if (!map.hidden(box)) continue;
+      ++hidden;
+      // Pixel centres within the box's screen rectangle (a hidden box is in front of the eye).
+      glm::vec2 lo(INFINITY), hi(-INFINITY);
+      for (int k = 0; k < 8; ++k) {
+        const glm::vec4 clip =
+            view.view_projection() * glm::vec4(k & 1 ? box.max.x : box.min.x,
+                                               k & 2 ? box.max.y : box.min.y,
+                                               k & 4 ? box.max.z : box.min.z, 1.0f);
+        const glm::vec2 at((clip.x / clip.w + 1.0f) * 0.5f * float(view.width),
+                           (clip.y / clip.w + 1.0f) * 0.5f * float(view.height));
+        lo = glm::min(lo, at);
+        hi = glm::max(hi, at);
+      }
+      lo = glm::max(lo, glm::vec2(0.0f));
+      hi = glm::min(hi, glm::vec2(float(view.width), float(view.height)));
+      for (int p = 0; p < 200; ++p) {
+        const float px = std::floor(glm::mix(lo.x, hi.x, unit(rng))) + 0.5f;
+        const float py = std::floor(glm::mix(lo.y, hi.y, unit(rng))) + 0.5f;
+        const glm::vec4 far =
+            inverse * glm::vec4(2.0f * px / float(view.width) - 1.0f,
+                                2.0f * py / float(view.height) - 1.0f, 0.5f, 1.0f);
+        const glm::vec3 dir = glm::normalize(glm::vec3(far) / far.w - view.pose.position);
+        const float at = enters_at(view.pose.position, dir, box);
+        if (!std::isfinite(at)) continue;
+        float first = INFINITY;
+        for (const Bounds3& o : occluders)
+          first = std::min(first, enters_at(view.pose.position, dir, o));
+        ++checked;
+        ASSERT_LT(first, at) << "trial " << trial << " box " << q;
+      }
+    }
+  }
+  EXPECT_GT(hidden, 100);
+  EXPECT_GT(checked, 5000);
 }
 
 TEST(Occluders, AClosedBoxHoldsABoxAndGlassNone) {

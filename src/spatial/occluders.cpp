@@ -4,7 +4,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
@@ -120,6 +119,7 @@ std::optional<Bounds3> inscribed_box(const Scene& scene, uint32_t object) {
 
 Occluders::Occluders(const Scene& scene, const OccluderOptions& options)
     : scene_(scene), options_(options) {
+  if (options_.meshes) options_.texel_px = 1;  // mesh occluders are sampled per pixel
   std::vector<Bounds3> bounds(scene.objects.size());
   for (size_t i = 0; i < bounds.size(); ++i) {
     bounds[i] = scene.objects[i].bounds;
@@ -152,6 +152,11 @@ double Occluders::fill(OcclusionMap& map, const View& view, const Frustum& frust
 void Occluders::rasterise(OcclusionMap& map, const View& view, const Frustum& frustum) {
   map.reset(view, options_.texel_px);
   if (tree_.nodes.empty() || options_.per_frame == 0) return;
+  add_nearest(map, view, frustum);
+  map.finish();
+}
+
+void Occluders::add_nearest(OcclusionMap& map, const View& view, const Frustum& frustum) {
   ++frame_;
   const glm::vec3 eye = view.pose.position;
   // Pixels per metre at unit distance, across the view.
@@ -183,8 +188,19 @@ void Occluders::rasterise(OcclusionMap& map, const View& view, const Frustum& fr
       if (seen_in_[o] == frame_) continue;
       seen_in_[o] = frame_;
       const Bounds3& bounds = scene_.objects[o].bounds;
-      if (bounds.contains(eye) || eye.y <= bounds.min.y) continue;
       if (frustum.classify(bounds) == Visibility::none) continue;
+      const Object& object = scene_.objects[o];
+      const Material& material = scene_.materials[object.material];
+      if (options_.meshes && !material.transparent() && material.alpha_mode == AlphaMode::opaque &&
+          object.triangle_count() <= options_.mesh_triangles) {
+        const glm::vec3 s = bounds.size();
+        const float d = std::max(distance_to(bounds, eye), view.near_m);
+        if (std::max({s.x, s.y, s.z}) * focal / d < options_.min_size_px) continue;
+        map.add_mesh(scene_, o, material.double_sided != 0);
+        ++added;
+        continue;
+      }
+      if (bounds.contains(eye) || eye.y <= bounds.min.y) continue;
       const Bounds3* box = box_of(o);
       if (!box) continue;
       const glm::vec3 s = box->size();

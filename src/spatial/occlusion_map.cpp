@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-
 #include <glm/geometric.hpp>
+#include <limits>
 
 namespace farfield {
 
@@ -32,6 +31,8 @@ void OcclusionMap::reset(const View& view, int texel_px) {
   scale_y_ = 0.5f * projection[1][1] * texels_y_;
   depth_.assign(size_t(width_) * size_t(height_), kInf);
   occluders_ = 0;
+  sampled_ = texel_px == 1;
+  levels_ = 0;
 }
 
 glm::vec2 OcclusionMap::to_texels(const glm::vec3& p) const {
@@ -58,12 +59,74 @@ void OcclusionMap::add_box(const Bounds3& box) {
         p[v] = vs[k];
         corners[k] = glm::vec3(view_matrix_ * glm::vec4(p, 1.0f));
       }
-      fill_face(corners);
+      fill_polygon(corners, 4);
     }
   }
 }
 
-void OcclusionMap::fill_face(const glm::vec3* corners) {
+void OcclusionMap::add_mesh(const Scene& scene, uint32_t object, bool both_sides) {
+  if (depth_.empty()) return;
+  ++occluders_;
+  const Object& o = scene.objects[object];
+  // Each vertex to view space and, in front of the near plane, to texels, once.
+  view_points_.resize(o.vertex_count);
+  texel_points_.resize(o.vertex_count);
+  for (uint32_t v = 0; v < o.vertex_count; ++v) {
+    const glm::vec3 p =
+        glm::vec3(view_matrix_ * glm::vec4(scene.vertices[o.first_vertex + v].position, 1.0f));
+    view_points_[v] = p;
+    texel_points_[v] = -p.z >= near_ ? to_texels(p) : glm::vec2(NAN);
+  }
+  const uint32_t* index = scene.indices.data() + o.first_index;
+  for (uint32_t t = 0; t < o.index_count; t += 3) {
+    const uint32_t a = index[t] - o.first_vertex, b = index[t + 1] - o.first_vertex,
+                   c = index[t + 2] - o.first_vertex;
+    const glm::vec3 corners[3] = {view_points_[a], view_points_[b], view_points_[c]};
+    // A face the renderer culls (its back, single-sided) hides nothing.
+    const glm::vec3 normal = glm::cross(corners[1] - corners[0], corners[2] - corners[0]);
+    if (!both_sides && glm::dot(normal, corners[0]) >= 0.0f) continue;
+    const glm::vec2 &ta = texel_points_[a], &tb = texel_points_[b], &tc = texel_points_[c];
+    if (!std::isnan(ta.x) && !std::isnan(tb.x) && !std::isnan(tc.x)) {
+      // Wholly in front of the near plane: no pixel centre within its box, nothing to mark.
+      const glm::vec2 lo = glm::min(glm::min(ta, tb), tc), hi = glm::max(glm::max(ta, tb), tc);
+      if (std::ceil(lo.x - 0.5f) > std::floor(hi.x - 0.5f) ||
+          std::ceil(lo.y - 0.5f) > std::floor(hi.y - 0.5f))
+        continue;
+    }
+    fill_polygon(corners, 3);
+  }
+}
+
+void OcclusionMap::finish() {
+  levels_ = 0;
+  if (!sampled_ || depth_.empty()) return;
+  // Level k + 1 holds the farthest mark of each 2 x 2 block of level k; texels past the map's
+  // edge hold nothing that can be seen, so they do not count. Storage is kept between frames.
+  int w = width_, h = height_;
+  const float* below = depth_.data();
+  while (w > 1 || h > 1) {
+    const int nw = (w + 1) / 2, nh = (h + 1) / 2;
+    if (pyramid_.size() <= levels_) pyramid_.emplace_back();
+    Level& level = pyramid_[levels_++];
+    level.width = nw;
+    level.height = nh;
+    level.depth.resize(size_t(nw) * size_t(nh));
+    for (int y = 0; y < nh; ++y) {
+      const float* r0 = below + size_t(2 * y) * size_t(w);
+      const float* r1 = 2 * y + 1 < h ? r0 + w : r0;
+      float* out = &level.depth[size_t(y) * size_t(nw)];
+      for (int x = 0; x < nw; ++x) {
+        const int x1 = 2 * x + 1 < w ? 2 * x + 1 : 2 * x;
+        out[x] = std::max(std::max(r0[2 * x], r0[x1]), std::max(r1[2 * x], r1[x1]));
+      }
+    }
+    below = level.depth.data();
+    w = nw;
+    h = nh;
+  }
+}
+
+void OcclusionMap::fill_polygon(const glm::vec3* corners, int corner_count) {
   // The face's plane in view space, n.p = c, with the eye (the origin) on its front side.
   glm::vec3 n = glm::cross(corners[1] - corners[0], corners[2] - corners[0]);
   const float length = glm::length(n);
@@ -76,8 +139,8 @@ void OcclusionMap::fill_face(const glm::vec3* corners) {
   // Clipped to the near plane (depth = -z >= near).
   glm::vec3 clipped[8];
   int count = 0;
-  for (int k = 0; k < 4; ++k) {
-    const glm::vec3 &a = corners[k], &b = corners[(k + 1) % 4];
+  for (int k = 0; k < corner_count; ++k) {
+    const glm::vec3 &a = corners[k], &b = corners[(k + 1) % corner_count];
     const float da = -a.z - near_, db = -b.z - near_;
     if (da >= 0.0f) clipped[count++] = a;
     if ((da >= 0.0f) != (db >= 0.0f)) clipped[count++] = a + (b - a) * (da / (da - db));
@@ -89,6 +152,10 @@ void OcclusionMap::fill_face(const glm::vec3* corners) {
     poly[k] = to_texels(clipped[k]);
     lo = glm::min(lo, poly[k]);
     hi = glm::max(hi, poly[k]);
+  }
+  if (sampled_) {
+    fill_centres(poly, count, n, c, lo, hi);
+    return;
   }
   // Texel corners (lattice points) that can be inside, within the map.
   const int i0 = std::max(0, int(std::ceil(lo.x))), i1 = std::min(width_, int(std::floor(hi.x)));
@@ -151,6 +218,65 @@ void OcclusionMap::fill_face(const glm::vec3* corners) {
   }
 }
 
+void OcclusionMap::fill_centres(const glm::vec2* poly, int count, const glm::vec3& n, float c,
+                                const glm::vec2& lo, const glm::vec2& hi) {
+  // Pixel centres (i + 0.5, j + 0.5) inside the polygon by the margin, within the map.
+  const int i0 = std::max(0, int(std::ceil(lo.x - 0.5f))),
+            i1 = std::min(width_ - 1, int(std::floor(hi.x - 0.5f)));
+  const int j0 = std::max(0, int(std::ceil(lo.y - 0.5f))),
+            j1 = std::min(height_ - 1, int(std::floor(hi.y - 0.5f)));
+  if (i1 < i0 || j1 < j0) return;
+  double area = 0;
+  for (int k = 0; k < count; ++k) {
+    const glm::vec2 &a = poly[k], &b = poly[(k + 1) % count];
+    area += double(a.x) * b.y - double(b.x) * a.y;
+  }
+  const float orientation = area > 0 ? 1.0f : -1.0f;
+  glm::vec3 edges[8];
+  for (int k = 0; k < count; ++k) {
+    const glm::vec2 &a = poly[k], &b = poly[(k + 1) % count];
+    glm::vec2 normal(-(b.y - a.y), b.x - a.x);
+    const float l = glm::length(normal);
+    if (!(l > 0.0f)) {
+      edges[k] = glm::vec3(0.0f, 0.0f, 1.0f);
+      continue;
+    }
+    normal *= orientation / l;
+    edges[k] = glm::vec3(normal, -glm::dot(normal, a));
+  }
+  // Row by row, the span of centres inside every edge; 1/depth is affine along it.
+  const float da = n.x / scale_x_;  // n.r per pixel along x
+  for (int j = j0; j <= j1; ++j) {
+    const float y = float(j) + 0.5f, b = (y - 0.5f * texels_y_) / scale_y_;
+    float left = float(i0) + 0.5f, right = float(i1) + 0.5f;
+    for (int k = 0; k < count; ++k) {
+      const float rest = kEdgeMargin - edges[k].y * y - edges[k].z;  // ex * x >= rest
+      if (edges[k].x > 0.0f)
+        left = std::max(left, rest / edges[k].x);
+      else if (edges[k].x < 0.0f)
+        right = std::min(right, rest / edges[k].x);
+      else if (rest > 0.0f)
+        right = -1.0f;  // a horizontal edge this row lies outside of
+    }
+    const int from = std::max(i0, int(std::ceil(left - 0.5f)));
+    const int to = std::min(i1, int(std::floor(right - 0.5f)));
+    if (to < from) continue;
+    float* row = &depth_[size_t(j) * size_t(width_)];
+    float nr = n.x * ((float(from) + 0.5f - 0.5f * texels_x_) / scale_x_) + n.y * b - n.z;
+    for (int i = from; i <= to; ++i, nr += da) {
+      // The span's ends are computed in floats: test them again exactly.
+      if ((i == from || i == to)) {
+        const float x = float(i) + 0.5f;
+        bool in = true;
+        for (int k = 0; k < count && in; ++k)
+          in = edges[k].x * x + edges[k].y * y + edges[k].z >= kEdgeMargin;
+        if (!in) continue;
+      }
+      if (nr < 0.0f) row[i] = std::min(row[i], c / nr);
+    }
+  }
+}
+
 bool OcclusionMap::hidden(const Bounds3& box) const {
   if (box.empty() || depth_.empty()) return false;
   float nearest = kInf;
@@ -166,18 +292,40 @@ bool OcclusionMap::hidden(const Bounds3& box) const {
     lo = glm::min(lo, t);
     hi = glm::max(hi, t);
   }
+  const float limit = nearest / (1.0f + kDepthMargin);
+  if (sampled_) return hidden_centres(lo, hi, limit);
   // Every texel holding a pixel centre the box's projection can reach.
   const int x0 = std::max(0, int(std::floor(lo.x))),
             x1 = std::min(width_ - 1, int(std::floor(hi.x)));
   const int y0 = std::max(0, int(std::floor(lo.y))),
             y1 = std::min(height_ - 1, int(std::floor(hi.y)));
   if (x1 < x0 || y1 < y0) return false;  // off screen: the frustum's to say
-  const float limit = nearest / (1.0f + kDepthMargin);
   for (int y = y0; y <= y1; ++y) {
     const float* row = &depth_[size_t(y) * size_t(width_)];
     for (int x = x0; x <= x1; ++x)
       if (!(row[x] < limit)) return false;
   }
+  return true;
+}
+
+bool OcclusionMap::hidden_centres(const glm::vec2& lo, const glm::vec2& hi, float limit) const {
+  // The pixels whose centres the projection can reach, at the level of the pyramid where they
+  // span at most 4 x 4 texels (each the farthest mark of its block).
+  int x0 = std::max(0, int(std::floor(lo.x - 0.5f))),
+      x1 = std::min(width_ - 1, int(std::ceil(hi.x - 0.5f)));
+  int y0 = std::max(0, int(std::floor(lo.y - 0.5f))),
+      y1 = std::min(height_ - 1, int(std::ceil(hi.y - 0.5f)));
+  if (x1 < x0 || y1 < y0) return false;
+  const std::vector<float>* level = &depth_;
+  int w = width_;
+  for (size_t l = 0; (x1 - x0 > 3 || y1 - y0 > 3) && l < levels_; ++l) {
+    x0 >>= 1, x1 >>= 1, y0 >>= 1, y1 >>= 1;
+    level = &pyramid_[l].depth;
+    w = pyramid_[l].width;
+  }
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x)
+      if (!((*level)[size_t(y) * size_t(w) + size_t(x)] < limit)) return false;
   return true;
 }
 

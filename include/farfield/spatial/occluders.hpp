@@ -9,7 +9,9 @@
 // ground without a floor); for other meshes it is a check, not a proof. Faces are taken as
 // oriented outwards (a renderer culling back faces shows nothing of a face seen from behind).
 // A box is used only while the eye is outside its object's bounds and above its bottom,
-// where every line of sight to the box crosses the object's surface first.
+// where every line of sight to the box crosses the object's surface first. With
+// OccluderOptions::meshes the objects' own triangles are the occluders instead (no inside to
+// prove: what the renderer draws hides what lies behind it).
 #pragma once
 
 #include <cstdint>
@@ -31,9 +33,15 @@ namespace farfield {
 std::optional<Bounds3> inscribed_box(const Scene& scene, uint32_t object);
 
 struct OccluderOptions {
-  uint32_t per_frame = 32;    // boxes rasterised a frame, the nearest objects' first
-  float min_size_px = 16.0f;  // a box whose largest side spans fewer pixels is skipped
+  uint32_t per_frame = 32;    // occluders rasterised a frame, the nearest objects' first
+  float min_size_px = 16.0f;  // an occluder whose largest side spans fewer pixels is skipped
   int texel_px = 4;           // the map's texels, in pixels a side
+  // The nearest opaque objects' own triangles as occluders (the map then at one pixel a texel,
+  // whatever texel_px says, sampled at pixel centres as the renderer does), for techniques that
+  // draw objects whole: exact where boxes inside objects cover only part of them. An object of
+  // more triangles than mesh_triangles gives its box instead.
+  bool meshes = false;
+  uint32_t mesh_triangles = 20000;
 };
 
 class Occluders {
@@ -49,6 +57,7 @@ class Occluders {
 
  private:
   void rasterise(OcclusionMap& map, const View& view, const Frustum& frustum);
+  void add_nearest(OcclusionMap& map, const View& view, const Frustum& frustum);
   const Bounds3* box_of(uint32_t object);
 
   const Scene& scene_;

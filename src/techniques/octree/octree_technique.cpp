@@ -23,8 +23,21 @@ constexpr SettingSpec kSettings[] = {
     {.key = "occlusion",
      .type = SettingType::flag,
      .default_value = "0",
-     .help = "also skip what boxes inside the nearest opaque objects hide "
-             "(spatial/occluders.hpp; the image is unchanged); 0 is the paper's culling"},
+     .help = "also skip what the nearest opaque objects hide (docs/occlusion.md; the image is "
+             "unchanged); 0 is the paper's culling"},
+    {.key = "occluders",
+     .type = SettingType::choice,
+     .default_value = "meshes",
+     .help = "with occlusion: meshes, the nearest objects' own triangles sampled at every pixel; "
+             "boxes, boxes inside them on a map of 4 x 4-pixel texels (cheaper, hides less)",
+     .choices = "meshes|boxes"},
+    {.key = "occluder_count",
+     .type = SettingType::integer,
+     .default_value = "128",
+     .help = "with occlusion: occluders a frame, the nearest objects' first",
+     .unit = "objects",
+     .min = 1,
+     .max = 1e5},
 };
 
 OctreeTechniqueOptions options_from(const SettingValues& v) {
@@ -32,6 +45,8 @@ OctreeTechniqueOptions options_from(const SettingValues& v) {
   o.tree.max_depth = uint32_t(v.integer("depth"));
   o.tree.objects_per_leaf = uint32_t(v.integer("leaf_objects"));
   o.occlusion = v.flag("occlusion");
+  o.occluders.meshes = v.text("occluders") == "meshes";
+  o.occluders.per_frame = uint32_t(v.integer("occluder_count"));
   return o;
 }
 
@@ -70,7 +85,8 @@ Result<void> OctreeTechnique::load(const LoadContext& context) {
   for (size_t i = 0; i < bounds.size(); ++i) bounds[i] = scene.objects[i].bounds;
   tree_ = build_octree(bounds, options_.tree);
   visible_ = std::make_unique<ObjectSet>(scene);
-  occluders_ = options_.occlusion ? std::make_unique<Occluders>(scene) : nullptr;
+  occluders_ =
+      options_.occlusion ? std::make_unique<Occluders>(scene, options_.occluders) : nullptr;
   stack_.reserve(8 * (tree_.depth + 1) + 1);
   return {};
 }

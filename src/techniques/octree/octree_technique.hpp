@@ -27,7 +27,8 @@ struct OctreeTechniqueOptions {
   OctreeOptions tree;
   bool paper_visibility_test = false;  // paper 004's corner projection instead of planes
   bool test_objects_in_leaves = true;  // cull the objects of a partially visible leaf
-  bool occlusion = false;              // also cull what occluder boxes hide (issue 14)
+  bool occlusion = false;              // also cull what the nearest objects hide (issue 14)
+  OccluderOptions occluders;
 };
 
 class OctreeTechnique final : public Technique {
