@@ -152,7 +152,8 @@ Result<CameraPath> interior_path(const Scene& scene, const PathOptions& o) {
     std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
     queue.push({0.0f, start});
     while (!queue.empty()) {
-      const auto [d, node] = queue.top();
+      const float d = queue.top().first;  // not a structured binding: the lambda below uses it
+      const uint32_t node = queue.top().second;
       queue.pop();
       if (d > dist[node]) continue;
       if (node != start && goal(node)) {

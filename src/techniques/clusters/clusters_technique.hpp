@@ -41,7 +41,9 @@ struct ClustersOptions {
   ClusterTraversal traversal = ClusterTraversal::refined;
   int hysteresis = 4;  // frames (paper 001, Sec. 4.6)
   HysteresisRule hysteresis_rule = HysteresisRule::paper;
-  bool occlusion = true;  // cull with boxes inside the nearest opaque objects
+  bool occlusion = true;  // cull with what the nearest opaque objects hide
+  // Boxes inside them, their own triangles, or boxes under a budget and triangles without.
+  enum class Occluders : uint8_t { automatic, boxes, meshes } occluders = Occluders::automatic;
 };
 
 class ClustersTechnique final : public Technique {
@@ -80,7 +82,8 @@ class ClustersTechnique final : public Technique {
   std::unique_ptr<ClusterSelection> selection_;
   std::unique_ptr<ObjectSet> full_;  // this frame's objects drawn whole
   std::vector<Choice> choices_;
-  std::unique_ptr<Occluders> occluders_;  // null: clusters.occlusion=0
+  std::unique_ptr<Occluders> occluders_;       // boxes; null: none (clusters.occlusion=0)
+  std::unique_ptr<Occluders> mesh_occluders_;  // the objects' own triangles
   OcclusionMap occlusion_;
   FrameCostModel cost_;  // budget mode: fitted to measured frames
   // figures()
