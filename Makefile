@@ -22,8 +22,10 @@ install: build
 # The main job on the built-in default scene: the default city, its street path, the bakes of
 # stratified rendering (the viewcells the path needs) and of clusters (every object's LODs),
 # and a benchmark of brute force against octree culling, stratified rendering, composite and
-# clusters, with bird's-eye pictures (report in $(OUT)/bench). Colour cubes suit dense geometry seen from afar, not a city at street level:
-# their bake refuses the city (docs/techniques/colorcube.md, "When it applies").
+# clusters, with bird's-eye pictures (report in $(OUT)/bench); then the generated building
+# walked room to room, brute force against portal rendering (report in $(OUT)/bench-building).
+# Colour cubes suit dense geometry seen from afar, not a city at street level: their bake
+# refuses the city (docs/techniques/colorcube.md, "When it applies").
 demo: build
 	@mkdir -p $(OUT)
 	$(BUILD)/farfield generate city --out $(OUT)/city.ffscene
@@ -34,7 +36,11 @@ demo: build
 	$(BUILD)/farfield bake $(OUT)/city.ffscene --technique clusters --out $(OUT)/city.ffpack
 	$(BUILD)/farfield bench $(OUT)/city.ffscene --path $(OUT)/street.json --store $(OUT)/city.ffpack \
 	  --technique brute,octree,stratified,composite,clusters --birdseye 300 --out $(OUT)/bench
-	@echo "demo: report in $(OUT)/bench (bench.json, frame_times.png, sample frames and differences)"
+	$(BUILD)/farfield generate building --out $(OUT)/building.ffscene
+	$(BUILD)/farfield path $(OUT)/building.ffscene --kind interior --out $(OUT)/interior.json
+	$(BUILD)/farfield bench $(OUT)/building.ffscene --path $(OUT)/interior.json \
+	  --technique brute,portal,portal-paper --birdseye 30 --out $(OUT)/bench-building
+	@echo "demo: reports in $(OUT)/bench (the city) and $(OUT)/bench-building (portals through the building's rooms): bench.json, frame_times.png, sample frames and differences"
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
