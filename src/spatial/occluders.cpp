@@ -196,6 +196,8 @@ void Occluders::add_nearest(OcclusionMap& map, const View& view, const Frustum& 
         const glm::vec3 s = bounds.size();
         const float d = std::max(distance_to(bounds, eye), view.near_m);
         if (std::max({s.x, s.y, s.z}) * focal / d < options_.min_size_px) continue;
+        // Nearest first: one that the nearer occluders hide already adds nothing.
+        if (map.hidden(bounds)) continue;
         map.add_mesh(scene_, o, material.double_sided != 0);
         ++added;
         continue;
