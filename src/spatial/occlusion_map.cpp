@@ -14,6 +14,28 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // only where it lies this much (relative) behind the mark: float rounding stays conservative.
 constexpr float kEdgeMargin = 1e-3f, kDepthMargin = 1e-4f;
 
+// The lines of a convex polygon's edges (a, b, c: a x + b y + c), oriented so that inside is
+// positive whatever its winding, normalised to texel units.
+void edge_lines(const glm::vec2* poly, int count, glm::vec3* edges) {
+  double area = 0;
+  for (int k = 0; k < count; ++k) {
+    const glm::vec2 &a = poly[k], &b = poly[(k + 1) % count];
+    area += double(a.x) * b.y - double(b.x) * a.y;
+  }
+  const float orientation = area > 0 ? 1.0f : -1.0f;
+  for (int k = 0; k < count; ++k) {
+    const glm::vec2 &a = poly[k], &b = poly[(k + 1) % count];
+    glm::vec2 normal(-(b.y - a.y), b.x - a.x);
+    const float l = glm::length(normal);
+    if (!(l > 0.0f)) {
+      edges[k] = glm::vec3(0.0f, 0.0f, 1.0f);  // a repeated point: no constraint
+      continue;
+    }
+    normal *= orientation / l;
+    edges[k] = glm::vec3(normal, -glm::dot(normal, a));
+  }
+}
+
 }  // namespace
 
 void OcclusionMap::reset(const View& view, int texel_px) {
@@ -162,25 +184,8 @@ void OcclusionMap::fill_polygon(const glm::vec3* corners, int corner_count) {
   const int j0 = std::max(0, int(std::ceil(lo.y))), j1 = std::min(height_, int(std::floor(hi.y)));
   if (i1 <= i0 || j1 <= j0) return;
 
-  // Edge lines, oriented so that inside is positive, normalised to texel units.
-  double area = 0;
-  for (int k = 0; k < count; ++k) {
-    const glm::vec2 &a = poly[k], &b = poly[(k + 1) % count];
-    area += double(a.x) * b.y - double(b.x) * a.y;
-  }
-  const float orientation = area > 0 ? 1.0f : -1.0f;
   glm::vec3 edges[8];
-  for (int k = 0; k < count; ++k) {
-    const glm::vec2 &a = poly[k], &b = poly[(k + 1) % count];
-    glm::vec2 normal(-(b.y - a.y), b.x - a.x);
-    const float l = glm::length(normal);
-    if (!(l > 0.0f)) {
-      edges[k] = glm::vec3(0.0f, 0.0f, 1.0f);  // a repeated point: no constraint
-      continue;
-    }
-    normal *= orientation / l;
-    edges[k] = glm::vec3(normal, -glm::dot(normal, a));
-  }
+  edge_lines(poly, count, edges);
 
   const int cols = i1 - i0 + 1, rows = j1 - j0 + 1;
   corner_depth_.resize(size_t(cols) * size_t(rows));
@@ -226,24 +231,8 @@ void OcclusionMap::fill_centres(const glm::vec2* poly, int count, const glm::vec
   const int j0 = std::max(0, int(std::ceil(lo.y - 0.5f))),
             j1 = std::min(height_ - 1, int(std::floor(hi.y - 0.5f)));
   if (i1 < i0 || j1 < j0) return;
-  double area = 0;
-  for (int k = 0; k < count; ++k) {
-    const glm::vec2 &a = poly[k], &b = poly[(k + 1) % count];
-    area += double(a.x) * b.y - double(b.x) * a.y;
-  }
-  const float orientation = area > 0 ? 1.0f : -1.0f;
   glm::vec3 edges[8];
-  for (int k = 0; k < count; ++k) {
-    const glm::vec2 &a = poly[k], &b = poly[(k + 1) % count];
-    glm::vec2 normal(-(b.y - a.y), b.x - a.x);
-    const float l = glm::length(normal);
-    if (!(l > 0.0f)) {
-      edges[k] = glm::vec3(0.0f, 0.0f, 1.0f);
-      continue;
-    }
-    normal *= orientation / l;
-    edges[k] = glm::vec3(normal, -glm::dot(normal, a));
-  }
+  edge_lines(poly, count, edges);
   // Row by row, the span of centres inside every edge; 1/depth is affine along it.
   const float da = n.x / scale_x_;  // n.r per pixel along x
   for (int j = j0; j <= j1; ++j) {
