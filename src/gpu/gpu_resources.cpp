@@ -193,15 +193,17 @@ void GpuResources::upload(const TextureUpload& u) {
     glCreateTextures(GL_TEXTURE_2D, 1, &t.texture);
     const int levels = u.mipmaps ? int(std::bit_width(unsigned(std::max(u.width, u.height)))) : 1;
     glTextureStorage2D(t.texture, levels, GL_RGBA8, u.width, u.height);
-    glTextureParameteri(t.texture, GL_TEXTURE_MIN_FILTER,
-                        u.mipmaps ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-    glTextureParameteri(t.texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(t.texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(t.texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     t.width = u.width;
     t.height = u.height;
     t.mipmaps = u.mipmaps;
   }
+  glTextureParameteri(t.texture, GL_TEXTURE_MIN_FILTER,
+                      u.mipmaps ? GL_LINEAR_MIPMAP_LINEAR
+                      : u.nearest ? GL_NEAREST
+                                  : GL_LINEAR);
+  glTextureParameteri(t.texture, GL_TEXTURE_MAG_FILTER, u.nearest ? GL_NEAREST : GL_LINEAR);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
   // Row 0 of the pixels (the image's top) lands at t = 0; quads and meshes map it so.

@@ -460,11 +460,31 @@ struct Renderer::State {
       glDepthFunc(GL_GEQUAL);
       glDepthMask(GL_FALSE);
     }
-    for (size_t i = 0; i < list.backdrop.size(); ++i) {
-      glBindTextureUnit(0, resources.texture(list.backdrop[i].texture).texture);
-      glProgramUniform1f(quad_program, kOpacityUniform, list.backdrop[i].opacity);
+    // A signed difference is added in two passes, its positive part added and its negative
+    // part subtracted: an 8-bit target clamps a negative fragment colour to 0 before blending.
+    auto pass = [&](size_t i, GLenum equation, float offset, float sign) {
+      glBlendEquation(equation);
+      glProgramUniform2f(quad_program, kPartUniform, offset, sign);
       glDrawArrays(GL_TRIANGLE_FAN, GLint(4 * i), 4);
+    };
+    for (size_t i = 0; i < list.backdrop.size(); ++i) {
+      const TexturedQuad& q = list.backdrop[i];
+      glBindTextureUnit(0, resources.texture(q.texture).texture);
+      glProgramUniform1f(quad_program, kOpacityUniform, q.opacity);
+      if (q.blend == TexturedQuad::Blend::over) {
+        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+        pass(i, GL_FUNC_ADD, 0.0f, 1.0f);
+        continue;
+      }
+      glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE, GL_ZERO, GL_ONE);
+      if (q.blend == TexturedQuad::Blend::add) {
+        pass(i, GL_FUNC_ADD, 0.0f, 1.0f);
+        continue;
+      }
+      pass(i, GL_FUNC_ADD, 128.0f / 255.0f, 1.0f);
+      pass(i, GL_FUNC_REVERSE_SUBTRACT, 128.0f / 255.0f, -1.0f);
     }
+    glBlendEquation(GL_FUNC_ADD);
     glDepthRangef(0.0f, 1.0f);
     glDepthFunc(GL_GREATER);
     glDepthMask(GL_TRUE);

@@ -149,11 +149,13 @@ void main() {
 constexpr const char* kQuadFragmentShader = R"(#version 450 core
 layout(binding = 0) uniform sampler2D far_image;
 layout(location = 5) uniform float opacity;
+// (offset, sign): the part of a signed difference drawn, max(sign (texel - offset), 0).
+layout(location = 6) uniform vec2 part = vec2(0.0, 1.0);
 in vec2 v_texcoord;
 layout(location = 0) out vec4 frag_color;
 void main() {
   vec4 texel = texture(far_image, v_texcoord);
-  frag_color = vec4(texel.rgb, texel.a * opacity);
+  frag_color = vec4(max(part.y * (texel.rgb - part.x), 0.0), texel.a * opacity);
 }
 )";
 

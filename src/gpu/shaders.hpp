@@ -22,6 +22,7 @@ enum : GLint {
   kLightWeightUniform = 3,     // float, diffuse weight of each light
   kAmbientUniform = 4,         // float
   kOpacityUniform = 5,         // float, of a textured quad
+  kPartUniform = 6,            // vec2 (offset, sign) of a textured quad: a signed difference's part
 };
 
 // Compiles and links the scene shading program. A compile or link error is a programming
@@ -34,7 +35,7 @@ GLuint build_textured_scene_program();
 // view-projection matrix at kViewProjectionUniform.
 GLuint build_proxy_program();
 // Textured quads: position (location 0), texture coordinate (location 4), the texture on unit
-// 0, kOpacityUniform multiplying its alpha.
+// 0, kOpacityUniform multiplying its alpha, kPartUniform choosing the part of a signed image.
 GLuint build_quad_program();
 // Textured meshes: position (0), colour (2), texture coordinate (4), the texture on unit 0.
 GLuint build_textured_program();

@@ -96,14 +96,18 @@ struct TextureUpload {
   const uint8_t* pixels;  // rows from the top
   std::shared_ptr<const void> owner;
   bool mipmaps = false;  // a full mip chain, trilinear (textured meshes); else one level
+  bool nearest = false;  // one level sampled at the nearest texel (image levels that add up)
 };
 
 // A quadrilateral showing a texture: corners at the image's top-left, top-right,
-// bottom-right and bottom-left. Blended with the texture's alpha times `opacity`.
+// bottom-right and bottom-left. Blended with the texture's alpha times `opacity` over what
+// is there; or added to it scaled by that: image differences (paper 003, Sec. 2.3), whose
+// texels are >= 0 (add) or signed and stored offset by 128 (add_signed).
 struct TexturedQuad {
   std::array<glm::vec3, 4> corners;
   TextureHandle texture;
   float opacity = 1.0f;
+  enum class Blend : uint8_t { over, add, add_signed } blend = Blend::over;
 };
 
 // How the backdrop quads are drawn.

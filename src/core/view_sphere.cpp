@@ -1,0 +1,90 @@
+#include "farfield/core/view_sphere.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+namespace farfield {
+
+namespace {
+
+// Longitude in [0, 360) and latitude in [-90, 90] of the eye seen from the centre.
+void angles_of(const glm::vec3& d, float& longitude, float& latitude) {
+  const float length = glm::length(d);
+  if (!(length > 0.0f)) {
+    longitude = latitude = 0.0f;
+    return;
+  }
+  longitude = glm::degrees(std::atan2(d.z, d.x));
+  if (longitude < 0.0f) longitude += 360.0f;
+  latitude = glm::degrees(std::asin(std::clamp(d.y / length, -1.0f, 1.0f)));
+}
+
+}  // namespace
+
+ViewSphere ViewSphere::with_steps(const glm::vec3& centre, float radius, float d_theta_deg,
+                                  float d_phi_deg) {
+  ViewSphere s;
+  s.centre = centre;
+  s.radius = radius;
+  s.longitudes = std::max(1, int(std::lround(360.0f / d_theta_deg)));
+  s.latitudes = std::max(1, int(std::lround(180.0f / d_phi_deg)));
+  return s;
+}
+
+float ViewSphere::longitude_deg(uint32_t id) const {
+  return float(id % uint32_t(longitudes)) * d_theta_deg();
+}
+
+float ViewSphere::latitude_deg(uint32_t id) const {
+  return -90.0f + float(id / uint32_t(longitudes) + 1) * d_phi_deg();
+}
+
+glm::vec3 ViewSphere::position(uint32_t id) const {
+  const float theta = glm::radians(longitude_deg(id)), phi = glm::radians(latitude_deg(id));
+  return centre + radius * glm::vec3(std::cos(phi) * std::cos(theta), std::sin(phi),
+                                     std::cos(phi) * std::sin(theta));
+}
+
+CameraPose ViewSphere::pose(uint32_t id) const {
+  CameraPose p;
+  p.position = position(id);
+  // Looking back at the centre: the opposite longitude, the latitude below the horizon.
+  p.yaw_deg = longitude_deg(id) + 180.0f;
+  if (p.yaw_deg >= 180.0f) p.yaw_deg -= 360.0f;
+  p.pitch_deg = -latitude_deg(id);
+  return p;
+}
+
+uint32_t ViewSphere::nearest(const glm::vec3& eye) const {
+  uint32_t best = 0;
+  float best_weight = -1.0f;
+  for (const Weighted& w : around(eye))
+    if (w.weight > best_weight) {
+      best_weight = w.weight;
+      best = w.id;
+    }
+  return best;
+}
+
+std::array<ViewSphere::Weighted, 4> ViewSphere::around(const glm::vec3& eye) const {
+  float longitude, latitude;
+  angles_of(eye - centre, longitude, latitude);
+  const float column = longitude / d_theta_deg();
+  const int c0 = int(std::floor(column)) % longitudes;
+  const int c1 = (c0 + 1) % longitudes;
+  const float t = column - std::floor(column);
+  // Row r stands at latitude -90 + (r + 1) d_phi.
+  const float row = std::clamp((latitude + 90.0f) / d_phi_deg() - 1.0f, 0.0f,
+                               float(latitudes - 1));
+  const int r0 = std::min(int(std::floor(row)), latitudes - 1);
+  const int r1 = std::min(r0 + 1, latitudes - 1);
+  const float s = row - float(r0);
+  auto id = [&](int r, int c) { return uint32_t(r) * uint32_t(longitudes) + uint32_t(c); };
+  return {Weighted{id(r0, c0), (1 - t) * (1 - s)}, Weighted{id(r0, c1), t * (1 - s)},
+          Weighted{id(r1, c0), (1 - t) * s}, Weighted{id(r1, c1), t * s}};
+}
+
+}  // namespace farfield
