@@ -32,20 +32,21 @@ TEST(ViewSphere, TheViewpointsLookAtTheCentreFromTheSphere) {
     const glm::vec3 towards = glm::normalize(s.centre - pose.position);
     EXPECT_GT(glm::dot(pose.forward(), towards), 0.9999f) << id;
     // A viewpoint's own position gives it the whole weight (the pole row's columns are one).
-    const uint32_t nearest = s.nearest(s.position(id));
+    const uint32_t nearest = s.nearest(s.pose(id));
+    EXPECT_EQ(nearest, id);
     EXPECT_LT(glm::length(s.position(nearest) - s.position(id)), 1e-3f) << id;
     float sum = 0.0f;
-    for (const auto& w : s.around(s.position(id) + glm::vec3(0.1f, 0.05f, -0.07f))) {
+    CameraPose near_it = s.pose(id);
+    near_it.position += glm::vec3(0.1f, 0.05f, -0.07f);
+    for (const auto& w : s.around(near_it)) {
       EXPECT_GE(w.weight, 0.0f);
       sum += w.weight;
     }
     EXPECT_NEAR(sum, 1.0f, 1e-5f);
   }
   // Halfway between two columns of one row: the two share the weight.
-  const float lon = glm::radians(17.5f), lat = glm::radians(s.latitude_deg(72 * 20));
-  const glm::vec3 between(std::cos(lat) * std::cos(lon), std::sin(lat), std::cos(lat) * std::sin(lon));
   float on_pair = 0.0f;
-  for (const auto& w : s.around(s.centre + between * 10.0f))
+  for (const auto& w : s.around(pose_on_sphere(s.centre, 10.0f, 17.5f, s.latitude_deg(72 * 20))))
     if (w.id == 72 * 20 + 3 || w.id == 72 * 20 + 4) on_pair += w.weight;
   EXPECT_NEAR(on_pair, 1.0f, 1e-3f);
 }
@@ -62,7 +63,7 @@ TEST(ViewSphere, TheOrbitPathLiesOnARowOfViewpoints) {
                                               float(whole_view_distance(scene.bounds)), 5, 5);
   for (const CameraPose& p : path->frames) {
     EXPECT_NEAR(glm::length(p.position - s.centre), s.radius, 1e-3f * s.radius);
-    EXPECT_NEAR(s.latitude_deg(s.nearest(p.position)), 25.0f, 1e-3f);
+    EXPECT_NEAR(s.latitude_deg(s.nearest(p)), 25.0f, 1e-3f);
   }
 }
 

@@ -24,7 +24,9 @@ TEST(TechniqueContractGL, SelectAppendsToWhatTheListHolds) {
   // The whole row is the navigable region; small boxes so that something is far.
   const TechniqueSettings settings =
       test::settings_of({"stratified.band=all", "stratified.box=2", "stratified.viewcell=1",
-                         "ibr.d_theta=90", "ibr.d_phi=90", "ibr.resolution=32"});
+                         "ibr.d_theta=90", "ibr.d_phi=90", "ibr.resolution=32",
+                         "hybrid.d_theta=90", "hybrid.d_phi=90", "hybrid.width=64",
+                         "hybrid.height=48"});
   for (const TechniqueDescriptor* d : technique_descriptors())
     if (d->bake == BakeUse::required) {
       TechniqueSettings mine;

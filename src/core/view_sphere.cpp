@@ -42,23 +42,28 @@ float ViewSphere::latitude_deg(uint32_t id) const {
   return -90.0f + float(id / uint32_t(longitudes) + 1) * d_phi_deg();
 }
 
-glm::vec3 ViewSphere::position(uint32_t id) const {
-  const float theta = glm::radians(longitude_deg(id)), phi = glm::radians(latitude_deg(id));
-  return centre + radius * glm::vec3(std::cos(phi) * std::cos(theta), std::sin(phi),
-                                     std::cos(phi) * std::sin(theta));
-}
-
-CameraPose ViewSphere::pose(uint32_t id) const {
+CameraPose pose_on_sphere(const glm::vec3& centre, float radius, float longitude_deg,
+                          float latitude_deg) {
+  const float theta = glm::radians(longitude_deg), phi = glm::radians(latitude_deg);
   CameraPose p;
-  p.position = position(id);
+  p.position = centre + radius * glm::vec3(std::cos(phi) * std::cos(theta), std::sin(phi),
+                                           std::cos(phi) * std::sin(theta));
   // Looking back at the centre: the opposite longitude, the latitude below the horizon.
-  p.yaw_deg = longitude_deg(id) + 180.0f;
+  p.yaw_deg = longitude_deg + 180.0f;
   if (p.yaw_deg >= 180.0f) p.yaw_deg -= 360.0f;
-  p.pitch_deg = -latitude_deg(id);
+  p.pitch_deg = -latitude_deg;
   return p;
 }
 
-uint32_t ViewSphere::nearest(const glm::vec3& eye) const {
+glm::vec3 ViewSphere::position(uint32_t id) const {
+  return pose(id).position;
+}
+
+CameraPose ViewSphere::pose(uint32_t id) const {
+  return pose_on_sphere(centre, radius, longitude_deg(id), latitude_deg(id));
+}
+
+uint32_t ViewSphere::nearest(const CameraPose& eye) const {
   uint32_t best = 0;
   float best_weight = -1.0f;
   for (const Weighted& w : around(eye))
@@ -69,22 +74,35 @@ uint32_t ViewSphere::nearest(const glm::vec3& eye) const {
   return best;
 }
 
-std::array<ViewSphere::Weighted, 4> ViewSphere::around(const glm::vec3& eye) const {
+std::array<ViewSphere::Weighted, 4> ViewSphere::around(const CameraPose& eye) const {
   float longitude, latitude;
-  angles_of(eye - centre, longitude, latitude);
-  const float column = longitude / d_theta_deg();
-  const int c0 = int(std::floor(column)) % longitudes;
-  const int c1 = (c0 + 1) % longitudes;
-  const float t = column - std::floor(column);
+  angles_of(eye.position - centre, longitude, latitude);
   // Row r stands at latitude -90 + (r + 1) d_phi.
   const float row = std::clamp((latitude + 90.0f) / d_phi_deg() - 1.0f, 0.0f,
                                float(latitudes - 1));
   const int r0 = std::min(int(std::floor(row)), latitudes - 1);
   const int r1 = std::min(r0 + 1, latitudes - 1);
   const float s = row - float(r0);
+  // The columns of a row: by the eye's longitude, or in the pole's row (its viewpoints all
+  // at the pole) by the longitude whose viewpoint looks as the eye's yaw does.
+  auto columns = [&](int r, int& c0, int& c1, float& t) {
+    float at = longitude;
+    if (r == latitudes - 1) {
+      at = std::fmod(eye.yaw_deg - 180.0f, 360.0f);
+      if (at < 0.0f) at += 360.0f;
+    }
+    const float column = at / d_theta_deg();
+    c0 = int(std::floor(column)) % longitudes;
+    c1 = (c0 + 1) % longitudes;
+    t = column - std::floor(column);
+  };
+  int a0, a1, b0, b1;
+  float ta, tb;
+  columns(r0, a0, a1, ta);
+  columns(r1, b0, b1, tb);
   auto id = [&](int r, int c) { return uint32_t(r) * uint32_t(longitudes) + uint32_t(c); };
-  return {Weighted{id(r0, c0), (1 - t) * (1 - s)}, Weighted{id(r0, c1), t * (1 - s)},
-          Weighted{id(r1, c0), (1 - t) * s}, Weighted{id(r1, c1), t * s}};
+  return {Weighted{id(r0, a0), (1 - ta) * (1 - s)}, Weighted{id(r0, a1), ta * (1 - s)},
+          Weighted{id(r1, b0), (1 - tb) * s}, Weighted{id(r1, b1), tb * s}};
 }
 
 }  // namespace farfield

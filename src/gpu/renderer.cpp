@@ -132,6 +132,11 @@ struct Renderer::State {
   std::vector<DrawCommand> commands;     // staging, capacity kept between frames
   bool has_timer = false;
   float clear_alpha = 1.0f;
+  // The visibility pass: its programs, per command the first triangle, the occupancy bits.
+  std::vector<uint8_t> see_through;  // per material: blended or cut out
+  GLuint visibility_depth_program = 0, visibility_mark_program = 0;
+  GLuint first_triangle_buffer = 0, occupancy_buffer = 0;
+  size_t first_triangle_capacity = 0, occupancy_words = 0;
 
   ~State() {
     for (const Chunk& c : chunks) {
@@ -139,9 +144,12 @@ struct Renderer::State {
       glDeleteBuffers(3, chunk_buffers);
       glDeleteVertexArrays(1, &c.vao);
     }
-    const GLuint buffers[] = {material_buffer, indirect_buffer, stream_buffer,
-                              quad_buffer,     line_buffer,     texturing_buffer};
-    glDeleteBuffers(6, buffers);
+    const GLuint buffers[] = {material_buffer, indirect_buffer,       stream_buffer,
+                              quad_buffer,     line_buffer,           texturing_buffer,
+                              occupancy_buffer, first_triangle_buffer};
+    glDeleteBuffers(8, buffers);
+    glDeleteProgram(visibility_depth_program);
+    glDeleteProgram(visibility_mark_program);
     const GLuint vaos[] = {vao, quad_vao, line_vao};
     glDeleteVertexArrays(3, vaos);
     glDeleteProgram(program);
@@ -563,7 +571,10 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
     return made.error();
   const bool textured = std::any_of(scene.materials.begin(), scene.materials.end(),
                                     [](const Material& m) { return m.textured(); });
-  for (const Material& m : materials) s.drawings.push_back({-1, m.double_sided != 0});
+  for (const Material& m : materials) {
+    s.drawings.push_back({-1, m.double_sided != 0});
+    s.see_through.push_back(m.transparent() || m.alpha_mode == AlphaMode::mask);
+  }
   if (textured) {
     auto textures = SceneTextures::create(scene);
     if (!textures) return textures.error();
@@ -663,6 +674,137 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
   }
   s.draw_lines(view_projection, list);
   return s.end_frame({0.0, list.triangle_count(), calls});
+}
+
+std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawList& list) {
+  State& s = *state_;
+  if (s.visibility_depth_program == 0) {
+    s.visibility_depth_program = build_visibility_depth_program();
+    s.visibility_mark_program = build_visibility_mark_program();
+  }
+  // Commands by kind: opaque one-sided, opaque two-sided, see-through; each command's
+  // baseInstance is its own number, which reads its first triangle.
+  struct Command {
+    DrawCommand command;
+    GLuint vao;
+  };
+  std::vector<Command> kinds[3];
+  std::vector<uint32_t> firsts;
+  for (const auto* ranges : {&list.opaque, &list.transparent})
+    for (const DrawRange& r : *ranges) {
+      if (r.mesh) continue;
+      FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
+                    uint64_t(r.first_index) + r.index_count <= s.index_count &&
+                    r.material < s.white_material,
+                "range [%u, +%u) material %u outside the scene", r.first_index, r.index_count,
+                r.material);
+      const int kind = s.see_through[r.material] ? 2 : s.drawings[r.material].double_sided ? 1 : 0;
+      for (uint32_t at = r.first_index, end = r.first_index + r.index_count; at < end;) {
+        const size_t c = chunk_of(s.chunk_ranges, at);
+        const SceneChunk& chunk = s.chunks[c].range;
+        const uint32_t stop = std::min(end, chunk.first_index + chunk.index_count);
+        kinds[kind].push_back({{stop - at, 1, at - chunk.first_index, -GLint(chunk.first_vertex),
+                                0},
+                               s.chunks[c].vao});
+        at = stop;
+      }
+    }
+  std::vector<DrawCommand> commands;
+  for (auto& k : kinds)
+    for (Command& c : k) {
+      c.command.base_instance = GLuint(commands.size());
+      commands.push_back(c.command);
+      const size_t chunk = size_t(std::find_if(s.chunks.begin(), s.chunks.end(),
+                                               [&](const State::Chunk& ch) { return ch.vao == c.vao; }) -
+                                  s.chunks.begin());
+      firsts.push_back((s.chunks[chunk].range.first_index + c.command.first_index) / 3);
+    }
+  const size_t words = (size_t(s.index_count / 3) + 31) / 32;
+  std::vector<uint32_t> visible;
+  if (commands.empty()) return visible;
+  s.reserve_commands(commands.size());
+  glNamedBufferSubData(s.indirect_buffer, 0, GLsizeiptr(commands.size() * sizeof(DrawCommand)),
+                       commands.data());
+  if (firsts.size() > s.first_triangle_capacity) {
+    s.first_triangle_capacity = std::bit_ceil(firsts.size());
+    glDeleteBuffers(1, &s.first_triangle_buffer);
+    const Result<void> made =
+        make_buffer(s.first_triangle_buffer, "first triangles",
+                    s.first_triangle_capacity * sizeof(uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    FF_ASSERT(made.ok(), "%s", made.error().message.c_str());
+  }
+  glNamedBufferSubData(s.first_triangle_buffer, 0, GLsizeiptr(firsts.size() * sizeof(uint32_t)),
+                       firsts.data());
+  if (words != s.occupancy_words) {
+    s.occupancy_words = words;
+    glDeleteBuffers(1, &s.occupancy_buffer);
+    const Result<void> made = make_buffer(s.occupancy_buffer, "occupancy bits",
+                                          std::max<size_t>(words, 1) * sizeof(uint32_t), nullptr,
+                                          GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
+    FF_ASSERT(made.ok(), "%s", made.error().message.c_str());
+  }
+  const GLuint zero = 0;
+  glClearNamedBufferData(s.occupancy_buffer, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  for (const State::Chunk& c : s.chunks) {
+    glVertexArrayVertexBuffer(c.vao, 4, s.first_triangle_buffer, 0, sizeof(uint32_t));
+    glVertexArrayBindingDivisor(c.vao, 4, 1);
+    glEnableVertexArrayAttrib(c.vao, kFirstTriangleAttrib);
+    glVertexArrayAttribIFormat(c.vao, kFirstTriangleAttrib, 1, GL_UNSIGNED_INT, 0);
+    glVertexArrayAttribBinding(c.vao, kFirstTriangleAttrib, 4);
+  }
+
+  const glm::mat4 view_projection = view.view_projection();
+  s.begin_frame(view_projection, view.width, view.height);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, s.indirect_buffer);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, s.occupancy_buffer);
+  // Draws the commands of kinds [from, to), runs of one vertex array a multi-draw each.
+  auto draw = [&](int from, int to) {
+    size_t first = 0;
+    for (int k = 0; k < from; ++k) first += kinds[k].size();
+    for (int k = from; k < to; ++k) {
+      if (k == 1) glDisable(GL_CULL_FACE);
+      for (size_t b = 0; b < kinds[k].size();) {
+        size_t e = b;
+        while (e < kinds[k].size() && kinds[k][e].vao == kinds[k][b].vao) ++e;
+        glBindVertexArray(kinds[k][b].vao);
+        glMultiDrawElementsIndirect(
+            GL_TRIANGLES, GL_UNSIGNED_INT,
+            reinterpret_cast<const void*>((first + b) * sizeof(DrawCommand)), GLsizei(e - b), 0);
+        b = e;
+      }
+      first += kinds[k].size();
+      glEnable(GL_CULL_FACE);
+    }
+  };
+  for (GLuint p : {s.visibility_depth_program, s.visibility_mark_program})
+    glProgramUniformMatrix4fv(p, kViewProjectionUniform, 1, GL_FALSE,
+                              glm::value_ptr(view_projection));
+  // The nearest opaque depth, then the opaque fragments at it and the see-through ones in
+  // front of it.
+  glUseProgram(s.visibility_depth_program);
+  draw(0, 2);
+  glUseProgram(s.visibility_mark_program);
+  glDepthMask(GL_FALSE);
+  glDepthFunc(GL_EQUAL);
+  draw(0, 2);
+  glDepthFunc(GL_GREATER);
+  glDisable(GL_CULL_FACE);  // the colour pass draws see-through surfaces two-sided
+  draw(2, 3);
+  glEnable(GL_CULL_FACE);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  // The other programs read no first triangle: the arrays fetch it only for this pass.
+  for (const State::Chunk& c : s.chunks) glDisableVertexArrayAttrib(c.vao, kFirstTriangleAttrib);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glBindVertexArray(s.vao);
+  glUseProgram(s.program);
+  std::vector<uint32_t> bits(words);
+  glGetNamedBufferSubData(s.occupancy_buffer, 0, GLsizeiptr(words * sizeof(uint32_t)), bits.data());
+  for (size_t w = 0; w < words; ++w)
+    for (uint32_t word = bits[w]; word != 0; word &= word - 1)
+      visible.push_back(uint32_t(w * 32 + size_t(std::countr_zero(word))));
+  return visible;
 }
 
 Result<MeshHandle> Renderer::create_mesh(std::span<const ProxyVertex> vertices,

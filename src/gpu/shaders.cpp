@@ -16,6 +16,7 @@ layout(location = 1) in vec3 normal;
 layout(location = 2) in vec4 color;
 layout(location = 3) in vec4 material_color;
 layout(location = 0) uniform mat4 view_projection;
+invariant gl_Position;  // as the visibility pass's: the same depths, pixel for pixel
 out vec3 v_normal;
 out vec4 v_color;
 void main() {
@@ -60,6 +61,7 @@ layout(location = 4) in vec2 texcoord;
 layout(location = 5) in ivec3 texturing;
 layout(location = 6) in float cutoff;
 layout(location = 0) uniform mat4 view_projection;
+invariant gl_Position;  // as the visibility pass's
 out vec3 v_normal;
 out vec4 v_color;
 out vec2 v_texcoord;
@@ -234,6 +236,50 @@ GLuint build_scene_program() {
 
 GLuint build_textured_scene_program() {
   return link("textured scene", kTexturedSceneVertexShader, kTexturedSceneFragmentShader);
+}
+
+namespace {
+
+// Visible triangles (paper 003, Sec. 3.1.1): the scene's positions only, and per draw command
+// (an instanced attribute read at its baseInstance) the number of its first triangle, so that
+// a fragment knows its triangle as that plus gl_PrimitiveID. Both passes run this shader, and
+// `invariant` makes their depths equal, as the second pass's GL_EQUAL test needs.
+constexpr const char* kVisibilityVertexShader = R"(#version 450 core
+layout(location = 0) in vec3 position;
+layout(location = 8) in uint first_triangle;
+layout(location = 0) uniform mat4 view_projection;
+invariant gl_Position;
+flat out uint v_first;
+void main() {
+  gl_Position = view_projection * vec4(position, 1.0);
+  v_first = first_triangle;
+}
+)";
+
+constexpr const char* kVisibilityDepthFragmentShader = R"(#version 450 core
+void main() {}
+)";
+
+// Only fragments that pass the depth test run (early tests), and each sets its triangle's
+// bit in the occupancy vector.
+constexpr const char* kVisibilityMarkFragmentShader = R"(#version 450 core
+layout(early_fragment_tests) in;
+layout(std430, binding = 0) buffer Occupancy { uint bits[]; };
+flat in uint v_first;
+void main() {
+  uint t = v_first + uint(gl_PrimitiveID);
+  atomicOr(bits[t >> 5u], 1u << (t & 31u));
+}
+)";
+
+}  // namespace
+
+GLuint build_visibility_depth_program() {
+  return link("visibility depth", kVisibilityVertexShader, kVisibilityDepthFragmentShader);
+}
+
+GLuint build_visibility_mark_program() {
+  return link("visibility mark", kVisibilityVertexShader, kVisibilityMarkFragmentShader);
 }
 
 GLuint build_quad_program() {

@@ -14,6 +14,7 @@ enum : GLuint {
   kTexcoordAttrib = 4,
   kTexturingAttrib = 5,  // ivec3: a material's texture array, layer, modes (scene_textures.hpp)
   kCutoffAttrib = 6,     // float: its alpha cutoff
+  kFirstTriangleAttrib = 8,  // uint per draw command: the visibility pass's first triangle
 };
 // Uniform locations.
 enum : GLint {
@@ -37,6 +38,11 @@ GLuint build_proxy_program();
 // Textured quads: position (location 0), texture coordinate (location 4), the texture on unit
 // 0, kOpacityUniform multiplying its alpha, kPartUniform choosing the part of a signed image.
 GLuint build_quad_program();
+// The visibility pass: positions (location 0), each command's first triangle (location 8);
+// the depth program writes depth only, the mark program sets each visible fragment's
+// triangle bit in the shader storage buffer at binding 0.
+GLuint build_visibility_depth_program();
+GLuint build_visibility_mark_program();
 // Textured meshes: position (0), colour (2), texture coordinate (4), the texture on unit 0.
 GLuint build_textured_program();
 

@@ -11,6 +11,7 @@
 
 #include "farfield/core/assert.hpp"
 #include "farfield/core/text.hpp"
+#include "farfield/core/view_sphere.hpp"
 #include "random.hpp"
 
 namespace farfield {
@@ -431,17 +432,19 @@ double whole_view_distance(const Bounds3& bounds) {
 namespace {
 
 CameraPath orbit_path(const Scene& scene, const PathOptions& o) {
-  const glm::dvec3 c(scene.bounds.center());
-  // The whole scene in view, from 25 degrees above the horizon.
-  const double distance = whole_view_distance(scene.bounds), elevation = 25.0 * kPi / 180.0;
-  const double radius = distance * std::cos(elevation), height = distance * std::sin(elevation);
+  // The whole scene in view, from 25 degrees above the horizon, on the sphere of paper 003's
+  // viewpoints (core/view_sphere.hpp): with 72 frames, every frame is one of them.
+  const double distance = whole_view_distance(scene.bounds);
+  const double radius = distance * std::cos(25.0 * kPi / 180.0);
   CameraPath path;
   path.kind = "orbit";
   path.frames.resize(o.frames);
   for (uint32_t k = 0; k < o.frames; ++k) {
-    const double angle = loop_distance(k, o, 2 * kPi * radius) / radius;
+    const double angle_deg = o.speed > 0.0
+                                 ? degrees(loop_distance(k, o, 2 * kPi * radius) / radius)
+                                 : 360.0 * k / o.frames;
     path.frames[k] =
-        looking_at(c + glm::dvec3(radius * std::cos(angle), height, radius * std::sin(angle)), c);
+        pose_on_sphere(scene.bounds.center(), float(distance), float(angle_deg), 25.0f);
   }
   return path;
 }

@@ -6,6 +6,7 @@
 #include "colorcube/colorcube_technique.hpp"
 #include "composite/composite_technique.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
+#include "hybrid/hybrid_technique.hpp"
 #include "ibr/ibr_technique.hpp"
 #include "octree/octree_technique.hpp"
 #include "portal/portal_technique.hpp"
@@ -19,7 +20,7 @@ const std::array kTechniques = {
     &brute_descriptor,     &octree_descriptor,     &octree_paper_descriptor,
     &colorcube_descriptor, &stratified_descriptor, &composite_descriptor,
     &clusters_descriptor,  &portal_descriptor,     &portal_paper_descriptor,
-    &ibr_descriptor,
+    &ibr_descriptor,       &hybrid_descriptor,
 };
 
 }  // namespace

@@ -16,6 +16,13 @@
 
 namespace farfield {
 
+// At `longitude_deg`, `latitude_deg` on the sphere about `centre`, looking at the centre.
+// path --kind orbit and the viewpoints both place their cameras with it, so that an orbit
+// frame at a viewpoint's angles is that viewpoint, float for float (hybrid's frames there are
+// then brute's, pixel for pixel).
+CameraPose pose_on_sphere(const glm::vec3& centre, float radius, float longitude_deg,
+                          float latitude_deg);
+
 struct ViewSphere {
   glm::vec3 centre{0.0f};
   float radius = 1.0f;
@@ -35,16 +42,17 @@ struct ViewSphere {
   CameraPose pose(uint32_t id) const;  // at position(id), looking at the centre
 
   // The viewpoint whose direction from the centre is nearest the eye's (by longitude and
-  // latitude, as the paper's walk steps between them).
-  uint32_t nearest(const glm::vec3& eye) const;
+  // latitude, as the paper's walk steps between them). The north pole's viewpoints stand in
+  // one place, turned by their longitude: there the one turned as the eye's yaw is.
+  uint32_t nearest(const CameraPose& eye) const;
   // The four viewpoints around the eye's direction with bilinear weights in longitude and
   // latitude (summing to 1; the eye on a viewpoint gives it weight 1). Above the last row
-  // or below the first, the row's two.
+  // or below the first, the row's two; in the pole's row, the two nearest the eye's yaw.
   struct Weighted {
     uint32_t id;
     float weight;
   };
-  std::array<Weighted, 4> around(const glm::vec3& eye) const;
+  std::array<Weighted, 4> around(const CameraPose& eye) const;
 };
 
 }  // namespace farfield

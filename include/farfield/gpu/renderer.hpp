@@ -61,6 +61,14 @@ class Renderer final : public Device {
   // The same with any projection (bakes render through box faces, 90 x 90 degrees, and up).
   FrameStats draw_with(const glm::mat4& view_projection, int width, int height,
                        const DrawList& list);
+  // The triangles of the list's scene ranges (the scene's own buffers; meshes are not
+  // looked at) that the frame `view` would show: each opaque one nearest at some pixel
+  // (triangles tied at a pixel all count), and each see-through one (blended, or cut out by
+  // its texture's alpha) in front of the opaque ones at some pixel. Ascending triangle numbers
+  // (index / 3). Drawing only these gives the frame the whole list gives, pixel for pixel
+  // (paper 003, Sec. 3.1.1: there an ID buffer, which keeps one triangle a pixel and so
+  // misses what shows through a transparent surface). Uses the offscreen target, as draw.
+  std::vector<uint32_t> visible_triangles(const View& view, const DrawList& list);
   // Waits until everything drawn so far is finished (the benchmark protocol's glFinish).
   void finish();
 

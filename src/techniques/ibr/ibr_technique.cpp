@@ -437,8 +437,8 @@ void IbrTechnique::select(const FrameInput& input, DrawList& out) {
   }
   last_eye_ = eye;
   levels_drawn_ += uint64_t(level);
-  std::array<ViewSphere::Weighted, 4> views = sphere_.around(eye);
-  if (!options_.blend) views = {ViewSphere::Weighted{sphere_.nearest(eye), 1.0f}, {}, {}, {}};
+  std::array<ViewSphere::Weighted, 4> views = sphere_.around(input.view.pose);
+  if (!options_.blend) views = {ViewSphere::Weighted{sphere_.nearest(input.view.pose), 1.0f}, {}, {}, {}};
   std::sort(views.begin(), views.end(),
             [](const auto& a, const auto& b) { return a.weight > b.weight; });
   const float half = sphere_.radius * std::tan(glm::radians(fov_deg_) * 0.5f);
@@ -463,7 +463,7 @@ void IbrTechnique::select(const FrameInput& input, DrawList& out) {
 
 std::optional<CameraPose> IbrTechnique::start_pose() const {
   if (!scene_) return std::nullopt;
-  return sphere_.pose(sphere_.nearest(sphere_.centre + glm::vec3(1.0f, 0.47f, 0.0f)));
+  return sphere_.pose(sphere_.nearest(pose_on_sphere(sphere_.centre, sphere_.radius, 0.0f, 25.0f)));
 }
 
 std::string IbrTechnique::describe() const {

@@ -1,0 +1,432 @@
+#include "hybrid_technique.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include <glm/geometric.hpp>
+
+#include "farfield/core/occupancy_codec.hpp"
+#include "farfield/core/text.hpp"
+#include "farfield/gpu/renderer.hpp"
+#include "farfield/scene/path_generator.hpp"
+#include "farfield/store/blob_array.hpp"
+#include "farfield/store/store.hpp"
+
+namespace farfield {
+
+namespace {
+
+constexpr const char* kParamsKey = "hybrid/params";
+constexpr size_t kCachedViews = 8;
+
+constexpr SettingSpec kSettings[] = {
+    {.key = "d_theta",
+     .type = SettingType::number,
+     .default_value = "5",
+     .help = "longitude between viewpoints (rounded to divide 360)",
+     .unit = "deg",
+     .symbol = "Delta theta (003, Sec. 2.1)",
+     .min = 0.5,
+     .max = 180,
+     .baked = true},
+    {.key = "d_phi",
+     .type = SettingType::number,
+     .default_value = "5",
+     .help = "latitude between viewpoints (rounded to divide 180)",
+     .unit = "deg",
+     .symbol = "Delta phi (003, Sec. 2.1)",
+     .min = 0.5,
+     .max = 180,
+     .baked = true},
+    {.key = "radius",
+     .type = SettingType::number,
+     .default_value = "",
+     .help = "the viewpoints' distance from the scene's centre; default: path --kind orbit's",
+     .unit = "m",
+     .min = 0,
+     .min_open = true,
+     .baked = true},
+    {.key = "width",
+     .type = SettingType::integer,
+     .default_value = "1024",
+     .help = "the width of the frames whose visible triangles are found (the walk's, or more: "
+             "003, Sec. 3.2)",
+     .unit = "px",
+     .min = 16,
+     .max = 16384,
+     .baked = true},
+    {.key = "height",
+     .type = SettingType::integer,
+     .default_value = "768",
+     .help = "their height",
+     .unit = "px",
+     .min = 16,
+     .max = 16384,
+     .baked = true},
+    {.key = "hfov",
+     .type = SettingType::number,
+     .default_value = "90",
+     .help = "their horizontal field of view (the walk's)",
+     .unit = "deg",
+     .min = 1,
+     .max = 179,
+     .baked = true},
+    {.key = "codec",
+     .type = SettingType::choice,
+     .default_value = "paper",
+     .help = "how a viewpoint's visible triangles are stored: paper (run lengths of the "
+             "occupancy bit vector's bytes, Huffman coded: 003, Sec. 3.1.2) or zstd (zstd over "
+             "the lengths of its runs of bits); both are measured at bake (info)",
+     .choices = "paper|zstd",
+     .baked = true},
+    {.key = "union",
+     .type = SettingType::choice,
+     .default_value = "around",
+     .help = "which viewpoints' triangles a frame draws: nearest (the paper's) or around (the "
+             "union of the four around the eye, so that between viewpoints less is missing)",
+     .choices = "nearest|around"},
+};
+
+double number_or(const SettingValues& v, std::string_view key, double otherwise) {
+  const std::string& text = v.text(key);
+  return text.empty() ? otherwise : std::strtod(text.c_str(), nullptr);
+}
+
+std::string view_blob(uint32_t view, const char* what) {
+  char name[48];
+  std::snprintf(name, sizeof name, "hybrid/view/%05u/%s", view, what);
+  return name;
+}
+
+// Per viewpoint: visible triangles, bit vector, run-length bytes, paper and zstd streams.
+constexpr size_t kSizeFields = 5;
+
+View view_of(const ViewSphere& sphere, uint32_t id, const HybridOptions& o, const Scene& scene) {
+  View v;
+  v.pose = sphere.pose(id);
+  v.width = o.width;
+  v.height = o.height;
+  v.hfov_deg = o.hfov_deg;
+  v.near_m = near_plane_for(scene.bounds);
+  return v;
+}
+
+std::string params_text(const ViewSphere& s, const HybridOptions& o, uint64_t triangles) {
+  return formatted("%d %d %.9g %.9g %.9g %.9g %d %d %.9g %s %llu", s.longitudes, s.latitudes,
+                   s.centre.x, s.centre.y, s.centre.z, s.radius, o.width, o.height, o.hfov_deg,
+                   o.zstd ? "zstd" : "paper", (unsigned long long)triangles);
+}
+
+}  // namespace
+
+const TechniqueDescriptor hybrid_descriptor{
+    .name = "hybrid",
+    .summary = "the visible triangles of viewpoints on a sphere around the model, compressed, "
+               "drawn as real geometry (paper 003, Sec. 3)",
+    .paper = "003, Sec. 3",
+    .settings = kSettings,
+    .bake = BakeUse::required,
+    .bake_format = 1,
+    .bake_renders = true,
+    .describe_bake = [](const Store& store) -> Result<std::string> {
+      auto s = hybrid_storage(store);
+      if (!s) return s.error();
+      auto ratio = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
+      return formatted(
+          "hybrid: %u viewpoints, %.2f%% of the triangles visible on average; run-length ratio "
+          "%.2f, Huffman ratio %.2f, total %.2f (paper's codec); zstd over the run lengths "
+          "%.2f; stored %.2f MB",
+          s->views, 100.0 * s->mean_visible_share, ratio(s->bit_vector, s->run_length),
+          ratio(s->run_length, s->paper), ratio(s->bit_vector, s->paper),
+          ratio(s->bit_vector, s->zstd), double(s->stored) / 1e6);
+    },
+    .make = [](const SettingValues& v,
+               const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
+      HybridOptions o;
+      o.d_theta_deg = float(v.number("d_theta"));
+      o.d_phi_deg = float(v.number("d_phi"));
+      o.radius_m = float(number_or(v, "radius", 0.0));
+      o.width = v.integer("width");
+      o.height = v.integer("height");
+      o.hfov_deg = float(v.number("hfov"));
+      o.zstd = v.text("codec") == "zstd";
+      o.around = v.text("union") == "around";
+      return std::unique_ptr<Technique>(std::make_unique<HybridTechnique>(o));
+    },
+};
+
+Result<HybridStorage> hybrid_storage(const Store& store) {
+  HybridStorage out;
+  auto params = store.get_meta(kParamsKey);
+  if (!params) return params.error();
+  if (*params) {
+    const char* last = std::strrchr((*params)->c_str(), ' ');
+    if (last) out.triangles = std::strtoull(last + 1, nullptr, 10);
+  }
+  auto blobs = store.list("hybrid/view/");
+  if (!blobs) return blobs.error();
+  double shares = 0.0;
+  for (const BlobInfo& b : *blobs) {
+    if (b.name.ends_with("/set")) {
+      out.stored += b.stored_size;
+      continue;
+    }
+    if (!b.name.ends_with("/sizes")) continue;
+    auto sizes = read_array<uint64_t>(store, b.name.c_str());
+    if (!sizes) return sizes.error();
+    if (sizes->size() != kSizeFields)
+      return make_error(store.path(), ": blob '", b.name, "' is not a hybrid viewpoint's sizes");
+    ++out.views;
+    if (out.triangles) shares += double((*sizes)[0]) / double(out.triangles);
+    out.bit_vector += (*sizes)[1];
+    out.run_length += (*sizes)[2];
+    out.paper += (*sizes)[3];
+    out.zstd += (*sizes)[4];
+  }
+  out.mean_visible_share = out.views ? shares / double(out.views) : 0.0;
+  return out;
+}
+
+// Paper 003, Sec. 3.1: per viewpoint the visible triangles, as an occupancy bit vector
+// compressed by both codecs (their sizes kept for Table 3), the chosen one stored. A viewpoint
+// is one transaction: a bake killed and run again goes on from the viewpoints it has.
+Result<void> HybridTechnique::bake(const BakeContext& context) {
+  if (!context.renderer) return make_error("hybrid: the bake needs a renderer");
+  const Scene& scene = context.scene;
+  Store& store = context.store;
+  if (scene.triangle_count() > UINT32_MAX)
+    return make_error("hybrid: a scene of more than 2^32 triangles");
+  const float radius = options_.radius_m > 0 ? options_.radius_m
+                                             : float(whole_view_distance(scene.bounds));
+  sphere_ = ViewSphere::with_steps(scene.bounds.center(), radius, options_.d_theta_deg,
+                                   options_.d_phi_deg);
+  const uint32_t triangles = uint32_t(scene.triangle_count());
+  const std::string params = params_text(sphere_, options_, triangles);
+  auto previous = store.get_meta(kParamsKey);
+  if (!previous) return previous.error();
+  if (*previous && **previous != params) {  // another bake's viewpoints: start again
+    if (auto erased = store.erase("hybrid/"); !erased) return erased.error();
+  }
+  if (auto ok = store.set_meta(kParamsKey, params); !ok) return ok;
+
+  ObjectSet everything(scene);
+  everything.insert_all();
+  DrawList list;
+  everything.emit(list);
+  gpu::Renderer& renderer = *context.renderer;
+  renderer.set_offscreen(options_.width, options_.height);
+  uint32_t kept = 0;
+  for (uint32_t id = 0; id < sphere_.count(); ++id) {
+    auto done = store.contains(view_blob(id, "sizes"));
+    if (!done) return done.error();
+    kept += *done;
+  }
+  if (kept > 0)
+    std::fprintf(stderr, "hybrid: %u of %u viewpoints already kept in the pack; continuing\n",
+                 kept, sphere_.count());
+  context.progress.start("bake hybrid viewpoints", sphere_.count());
+  for (uint32_t id = 0; id < sphere_.count(); ++id) {
+    auto done = store.contains(view_blob(id, "sizes"));
+    if (!done) return done.error();
+    if (!*done) {
+      const std::vector<uint32_t> visible =
+          renderer.visible_triangles(view_of(sphere_, id, options_, scene), list);
+      OccupancySizes paper, zstd;
+      Bytes paper_bytes = encode_occupancy(visible, triangles, OccupancyCodec::paper, &paper);
+      Bytes zstd_bytes = encode_occupancy(visible, triangles, OccupancyCodec::zstd, &zstd);
+      const std::vector<uint64_t> sizes = {visible.size(), paper.bit_vector, paper.run_length,
+                                           paper.encoded, zstd.encoded};
+      auto transaction = store.begin();
+      if (!transaction) return transaction.error();
+      if (auto ok = store.put(view_blob(id, "set"), options_.zstd ? zstd_bytes : paper_bytes,
+                              Codec::kNone);
+          !ok)
+        return ok;
+      if (auto ok = store.put(view_blob(id, "sizes"), bytes_of(sizes), Codec::kNone); !ok)
+        return ok;
+      if (auto ok = transaction->commit(); !ok) return ok;
+    }
+    context.progress.advance();
+  }
+  context.progress.finish();
+  renderer.set_offscreen(0, 0);
+  auto storage = hybrid_storage(store);
+  if (!storage) return storage.error();
+  storage_ = *storage;
+  return {};
+}
+
+Result<void> HybridTechnique::load(const LoadContext& context) {
+  const Scene& scene = context.scene;
+  if (!context.store)
+    return make_error("hybrid draws only from a bake: run `farfield bake SCENE --technique "
+                      "hybrid --out PACK.ffpack`, then pass --store PACK.ffpack");
+  const Store& store = *context.store;
+  // The viewpoints are the bake's.
+  auto params = store.get_meta(kParamsKey);
+  if (!params) return params.error();
+  char codec[8] = {};
+  unsigned long long triangles = 0;
+  if (!*params ||
+      std::sscanf((*params)->c_str(), "%d %d %f %f %f %f %d %d %f %7s %llu", &sphere_.longitudes,
+                  &sphere_.latitudes, &sphere_.centre.x, &sphere_.centre.y, &sphere_.centre.z,
+                  &sphere_.radius, &options_.width, &options_.height, &options_.hfov_deg, codec,
+                  &triangles) != 11 ||
+      sphere_.longitudes < 1 || sphere_.latitudes < 1 || !(sphere_.radius > 0))
+    return make_error(store.path(), ": its hybrid bake has no readable parameters; re-bake it");
+  if (triangles != scene.triangle_count())
+    return make_error(store.path(), ": its hybrid bake is of a scene of ", std::to_string(triangles),
+                      " triangles, not this one's ", std::to_string(scene.triangle_count()));
+  sets_.assign(sphere_.count(), {});
+  context.progress.start("read hybrid viewpoints", sphere_.count());
+  for (uint32_t id = 0; id < sphere_.count(); ++id) {
+    auto done = store.contains(view_blob(id, "sizes"));
+    if (!done) return done.error();
+    if (!*done)
+      return make_error(store.path(), formatted(": its hybrid bake lacks viewpoint %u of %u; run "
+                                                "the bake again to finish it",
+                                                id, sphere_.count()));
+    auto bytes = store.get(view_blob(id, "set"));
+    if (!bytes) return bytes.error();
+    sets_[id] = std::move(*bytes);
+    context.progress.advance();
+  }
+  context.progress.finish();
+  auto storage = hybrid_storage(store);
+  if (!storage) return storage.error();
+  storage_ = *storage;
+  scene_ = &scene;
+  object_end_.clear();
+  for (const Object& o : scene.objects) object_end_.push_back((o.first_index + o.index_count) / 3);
+  objects_ = std::make_unique<ObjectSet>(scene);
+  cache_.clear();
+  view_count_ = 0;
+  frames_ = fallback_frames_ = decodes_ = visible_drawn_ = ranges_drawn_ = 0;
+  decode_ms_ = 0.0;
+  return {};
+}
+
+const std::vector<uint32_t>* HybridTechnique::decoded(uint32_t view) {
+  for (size_t k = 0; k < cache_.size(); ++k)
+    if (cache_[k].view == view) {
+      std::rotate(cache_.begin() + long(k), cache_.begin() + long(k) + 1, cache_.end());
+      return &cache_.back().visible;
+    }
+  if (cache_.size() == kCachedViews) cache_.erase(cache_.begin());
+  const auto start = std::chrono::steady_clock::now();
+  cache_.push_back({view, {}});
+  auto ok = decode_occupancy(sets_[view], uint32_t(scene_->triangle_count()), cache_.back().visible);
+  decode_ms_ +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  ++decodes_;
+  if (!ok) {
+    if (failure_.empty()) failure_ = formatted("hybrid: viewpoint %u: %s", view, ok.error().message.c_str());
+    cache_.pop_back();
+    return nullptr;
+  }
+  return &cache_.back().visible;
+}
+
+// The union of views_'s triangles as scene ranges: runs of consecutive triangles, cut where
+// an object ends, in scene order (the order brute draws them in).
+void HybridTechnique::build_ranges() {
+  merged_.clear();
+  for (size_t k = 0; k < view_count_; ++k) {
+    const std::vector<uint32_t>* visible = decoded(views_[k]);
+    if (!visible) return;
+    scratch_.clear();
+    std::set_union(merged_.begin(), merged_.end(), visible->begin(), visible->end(),
+                   std::back_inserter(scratch_));
+    merged_.swap(scratch_);
+  }
+  ranges_.clear();
+  uint32_t object = 0;
+  for (size_t i = 0; i < merged_.size();) {
+    const uint32_t first = merged_[i];
+    while (object_end_[object] <= first) ++object;
+    size_t j = i + 1;
+    while (j < merged_.size() && merged_[j] == merged_[j - 1] + 1 && merged_[j] < object_end_[object])
+      ++j;
+    const uint32_t material = scene_->objects[object].material;
+    auto& into = scene_->materials[material].transparent() ? ranges_.transparent : ranges_.opaque;
+    into.push_back({3 * first, uint32_t(3 * (j - i)), material, {}});
+    i = j;
+  }
+}
+
+void HybridTechnique::select(const FrameInput& input, DrawList& out) {
+  if (!scene_ || input.region.kind == Region::Kind::far_field) return;
+  const glm::vec3 eye = input.view.pose.position;
+  if (input.region.kind == Region::Kind::near) {
+    objects_->clear();
+    for (uint32_t i = 0; i < scene_->objects.size(); ++i)
+      if (meet(scene_->objects[i].bounds, input.region.box)) objects_->insert(i);
+    objects_->emit(out);
+    return;
+  }
+  ++frames_;
+  const float distance = glm::length(eye - sphere_.centre);
+  if (distance < 0.5f * sphere_.radius || distance > 2.0f * sphere_.radius) {
+    ++fallback_frames_;
+    objects_->clear();
+    objects_->insert_all();
+    objects_->emit(out);
+    return;
+  }
+  std::array<uint32_t, 4> views{};
+  size_t count = 0;
+  if (options_.around) {
+    for (const ViewSphere::Weighted& w : sphere_.around(input.view.pose))
+      if (w.weight > 1e-4f && std::find(views.begin(), views.begin() + long(count), w.id) ==
+                                  views.begin() + long(count))
+        views[count++] = w.id;
+    for (size_t i = 1; i < count; ++i)  // ascending, so that the set compares across frames
+      for (size_t j = i; j > 0 && views[j - 1] > views[j]; --j) std::swap(views[j - 1], views[j]);
+  } else {
+    views[count++] = sphere_.nearest(input.view.pose);
+  }
+  if (count != view_count_ || !std::equal(views.begin(), views.begin() + long(count), views_.begin())) {
+    views_ = views;
+    view_count_ = count;
+    build_ranges();
+  }
+  visible_drawn_ += merged_.size();
+  ranges_drawn_ += ranges_.opaque.size() + ranges_.transparent.size();
+  out.opaque.insert(out.opaque.end(), ranges_.opaque.begin(), ranges_.opaque.end());
+  out.transparent.insert(out.transparent.end(), ranges_.transparent.begin(),
+                         ranges_.transparent.end());
+}
+
+std::optional<CameraPose> HybridTechnique::start_pose() const {
+  if (!scene_) return std::nullopt;
+  return sphere_.pose(sphere_.nearest(pose_on_sphere(sphere_.centre, sphere_.radius, 0.0f, 25.0f)));
+}
+
+std::string HybridTechnique::describe() const {
+  return formatted(
+      "%u viewpoints (%d x %d, every %.2f x %.2f deg) %.4g m from the centre, %d x %d px at "
+      "%.1f deg: %.2f%% of the triangles visible on average, %.2f MB",
+      sphere_.count(), sphere_.longitudes, sphere_.latitudes, sphere_.d_theta_deg(),
+      sphere_.d_phi_deg(), sphere_.radius, options_.width, options_.height, options_.hfov_deg,
+      100.0 * storage_.mean_visible_share, double(storage_.stored) / 1e6);
+}
+
+std::vector<std::pair<std::string, double>> HybridTechnique::figures() const {
+  auto mean = [&](double sum) { return frames_ ? sum / double(frames_) : 0.0; };
+  auto ratio = [](uint64_t a, uint64_t b) { return b ? double(a) / double(b) : 0.0; };
+  return {{"viewpoints", double(sphere_.count())},
+          {"store_bytes", double(storage_.stored)},
+          {"mean_visible_share", storage_.mean_visible_share},
+          {"run_length_ratio", ratio(storage_.bit_vector, storage_.run_length)},
+          {"huffman_ratio", ratio(storage_.run_length, storage_.paper)},
+          {"total_ratio", ratio(storage_.bit_vector, storage_.paper)},
+          {"zstd_ratio", ratio(storage_.bit_vector, storage_.zstd)},
+          {"mean_decode_ms", mean(decode_ms_)},
+          {"decodes", double(decodes_)},
+          {"mean_triangles_drawn", mean(double(visible_drawn_))},
+          {"mean_ranges", mean(double(ranges_drawn_))}};
+}
+
+}  // namespace farfield

@@ -1,0 +1,180 @@
+// Paper 003's hybrid renderer: the triangles a frame shows (the renderer's visibility pass),
+// and the hybrid technique baked and drawn: at a viewpoint its frame is brute's, pixel for
+// pixel, from a fraction of the triangles; its bake resumes, reports Table 3 and names damage.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include <glm/geometric.hpp>
+
+#include "farfield/core/view_sphere.hpp"
+#include "farfield/eval/bake_run.hpp"
+#include "farfield/eval/image_metrics.hpp"
+#include "farfield/gpu/context.hpp"
+#include "farfield/gpu/renderer.hpp"
+#include "farfield/scene/path_generator.hpp"
+#include "farfield/scene/tree_generator.hpp"
+#include "farfield/store/store.hpp"
+#include "farfield/techniques/object_set.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
+#include "test_util.hpp"
+
+namespace farfield {
+namespace {
+
+// The triangles of `object` facing `normal`.
+std::vector<uint32_t> face(const Scene& scene, uint32_t object, const glm::vec3& normal) {
+  std::vector<uint32_t> out;
+  const Object& o = scene.objects[object];
+  for (uint32_t i = o.first_index; i < o.first_index + o.index_count; i += 3) {
+    const glm::vec3 a = scene.vertices[scene.indices[i]].position,
+                    b = scene.vertices[scene.indices[i + 1]].position,
+                    c = scene.vertices[scene.indices[i + 2]].position;
+    if (glm::dot(glm::normalize(glm::cross(b - a, c - a)), normal) > 0.99f) out.push_back(i / 3);
+  }
+  return out;
+}
+
+bool holds(const std::vector<uint32_t>& set, const std::vector<uint32_t>& part) {
+  return std::all_of(part.begin(), part.end(), [&](uint32_t t) {
+    return std::binary_search(set.begin(), set.end(), t);
+  });
+}
+bool misses(const std::vector<uint32_t>& set, const std::vector<uint32_t>& part) {
+  return std::none_of(part.begin(), part.end(), [&](uint32_t t) {
+    return std::binary_search(set.begin(), set.end(), t);
+  });
+}
+
+// An opaque box hides what is behind it; a glass box hides nothing, and shows its far side.
+TEST(VisibleTrianglesGL, OpaqueSurfacesHideAndGlassDoesNot) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  const Scene scene = test::make_box_row(2);  // box 0 opaque at x 0..1, box 1 glass at 2..3
+  auto renderer = gpu::Renderer::create(scene);
+  ASSERT_TRUE(renderer);
+  ObjectSet all(scene);
+  all.insert_all();
+  DrawList list;
+  all.emit(list);
+  View view;
+  view.width = 160;
+  view.height = 120;
+  view.hfov_deg = 60;
+  (*renderer)->set_offscreen(view.width, view.height);
+  // From -X along the row: box 0's near face, nothing of box 1.
+  view.pose.position = {-3.0f, 0.5f, 0.5f};
+  view.pose.yaw_deg = 0.0f;
+  std::vector<uint32_t> seen = (*renderer)->visible_triangles(view, list);
+  EXPECT_TRUE(holds(seen, face(scene, 0, {-1, 0, 0})));
+  EXPECT_TRUE(misses(seen, face(scene, 0, {1, 0, 0})));
+  for (uint32_t t : seen) EXPECT_LT(t, scene.objects[1].first_index / 3) << "box 1 is hidden";
+  // From +X: the glass box's near and far faces, and box 0's face through it.
+  view.pose.position = {6.0f, 0.5f, 0.5f};
+  view.pose.yaw_deg = 180.0f;
+  seen = (*renderer)->visible_triangles(view, list);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_TRUE(holds(seen, face(scene, 1, {1, 0, 0})));
+  EXPECT_TRUE(holds(seen, face(scene, 1, {-1, 0, 0})));
+  EXPECT_TRUE(holds(seen, face(scene, 0, {1, 0, 0})));
+  EXPECT_TRUE(misses(seen, face(scene, 0, {-1, 0, 0})));
+}
+
+TechniqueSettings coarse(std::initializer_list<const char*> more = {}) {
+  TechniqueSettings s = test::settings_of(
+      {"hybrid.d_theta=90", "hybrid.d_phi=45", "hybrid.width=128", "hybrid.height=96"});
+  for (const char* m : more) EXPECT_TRUE(s.add(m));
+  return s;
+}
+
+// At a viewpoint, with the walk's view, the frame is brute's, from a part of the triangles;
+// with either codec and with the union of the viewpoints around.
+TEST(HybridGL, AtAViewpointTheFrameIsBrutes) {
+  if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
+  Progress quiet(true);
+  TreeOptions tree;
+  auto scene = generate_tree(tree, quiet);
+  ASSERT_TRUE(scene);
+  test::TempDir dir;
+  for (const char* codec : {"hybrid.codec=paper", "hybrid.codec=zstd"}) {
+    const std::string pack = dir.file(std::string(codec + 13) + ".ffpack");
+    auto baked = run_bake(*scene, "hybrid", coarse({codec}), pack, quiet);
+    ASSERT_TRUE(baked) << baked.error().message;
+    auto context = gpu::create_headless_context();
+    ASSERT_TRUE(context);
+    auto renderer = gpu::Renderer::create(*scene);
+    ASSERT_TRUE(renderer);
+    auto store = Store::open(pack, Store::Mode::kRead);
+    ASSERT_TRUE(store);
+    const ViewSphere sphere = ViewSphere::with_steps(
+        scene->bounds.center(), float(whole_view_distance(scene->bounds)), 90, 45);
+    View view;
+    view.width = 128;
+    view.height = 96;
+    view.near_m = near_plane_for(scene->bounds);
+    auto brute = make_technique("brute");
+    ASSERT_TRUE(brute);
+    ASSERT_TRUE(test::load_technique(**brute, *scene, renderer->get()));
+    (*renderer)->set_offscreen(view.width, view.height);
+    for (const char* join : {"hybrid.union=nearest", "hybrid.union=around"}) {
+      auto hybrid = make_technique("hybrid", coarse({codec, join}));
+      ASSERT_TRUE(hybrid);
+      ASSERT_TRUE(test::load_technique(**hybrid, *scene, renderer->get(), &*store));
+      for (uint32_t id : {9u, 14u}) {  // above the horizon, and looking down at 45 degrees
+        view.pose = sphere.pose(id);
+        DrawList list;
+        test::select_view(**brute, view, list);
+        (*renderer)->draw(view, list);
+        const Image reference = (*renderer)->capture();
+        test::select_view(**hybrid, view, list);
+        EXPECT_LT(list.triangle_count(), scene->triangle_count() / 2) << codec << " " << id;
+        (*renderer)->draw(view, list);
+        const ImageComparison c = compare_images(reference, (*renderer)->capture());
+        EXPECT_TRUE(c.identical()) << codec << " " << join << " viewpoint " << id << ": "
+                                   << c.differing_pixels << " pixels differ";
+      }
+      EXPECT_TRUE((*hybrid)->failure().empty());
+    }
+  }
+}
+
+TEST(HybridCli, ABakeGoesOnFromItsViewpointsReportsTable3AndNamesDamage) {
+  test::TempDir dir;
+  const std::string cwd = dir.path().string();
+  using test::run_farfield;
+  ASSERT_EQ(run_farfield("generate tree -q --out t.ffscene", cwd).exit_status, 0);
+  const std::string args =
+      "bake t.ffscene -t hybrid --set hybrid.d_theta=45 --set hybrid.d_phi=45 "
+      "--set hybrid.width=64 --set hybrid.height=48 --out t.ffpack";
+  auto r = run_farfield(args, cwd);
+  ASSERT_EQ(r.exit_status, 0) << r.output;
+  {
+    auto store = Store::open(dir.file("t.ffpack"), Store::Mode::kReadWrite);
+    ASSERT_TRUE(store);
+    ASSERT_TRUE(store->erase("hybrid/view/00005/"));  // as if killed before its transaction
+  }
+  r = run_farfield(args, cwd);
+  ASSERT_EQ(r.exit_status, 0) << r.output;
+  EXPECT_NE(r.output.find("hybrid: 31 of 32 viewpoints already kept"), std::string::npos)
+      << r.output;
+  r = run_farfield("info t.ffpack", cwd);
+  EXPECT_NE(r.output.find("hybrid: 32 viewpoints"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("run-length ratio"), std::string::npos) << r.output;
+  {
+    auto store = Store::open(dir.file("t.ffpack"), Store::Mode::kReadWrite);
+    ASSERT_TRUE(store);
+    const std::vector<std::byte> junk(20, std::byte{1});
+    ASSERT_TRUE(store->put("hybrid/view/00008/set", junk, Codec::kNone));  // frame 0 meets it
+  }
+  ASSERT_EQ(run_farfield("path t.ffscene --kind orbit --frames 3 --out o.json", cwd).exit_status,
+            0);
+  r = run_farfield(
+      "bench t.ffscene --store t.ffpack --path o.json -t hybrid --width 64 --height 48 "
+      "--no-plot -q --out b",
+      cwd);
+  EXPECT_NE(r.exit_status, 0);
+  EXPECT_NE(r.output.find("hybrid: viewpoint 8"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace farfield
