@@ -146,6 +146,11 @@ double SettingValues::number(std::string_view key) const {
   return std::strtod(text.c_str(), nullptr);
 }
 
+double SettingValues::number_or(std::string_view key, double otherwise) const {
+  const std::string& text = lookup(values_, key);
+  return text.empty() ? otherwise : std::strtod(text.c_str(), nullptr);
+}
+
 int SettingValues::integer(std::string_view key) const {
   return int(number(key));
 }

@@ -44,6 +44,8 @@ struct SettingSpec {
 class SettingValues {
  public:
   double number(std::string_view key) const;  // number and integer settings
+  // A number setting whose default is derived (empty): its value, or `otherwise` if none.
+  double number_or(std::string_view key, double otherwise) const;
   int integer(std::string_view key) const;
   bool flag(std::string_view key) const;
   const std::string& text(std::string_view key) const;  // choice and text settings

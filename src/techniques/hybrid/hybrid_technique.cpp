@@ -13,12 +13,14 @@
 #include "farfield/scene/path_generator.hpp"
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
+#include "farfield/store/viewpoint_blobs.hpp"
 
 namespace farfield {
 
 namespace {
 
 constexpr const char* kParamsKey = "hybrid/params";
+const ViewpointBlobs kBlobs("hybrid", "sizes");  // "sizes" is written last
 constexpr size_t kCachedViews = 8;
 
 constexpr SettingSpec kSettings[] = {
@@ -89,17 +91,6 @@ constexpr SettingSpec kSettings[] = {
      .choices = "nearest|around"},
 };
 
-double number_or(const SettingValues& v, std::string_view key, double otherwise) {
-  const std::string& text = v.text(key);
-  return text.empty() ? otherwise : std::strtod(text.c_str(), nullptr);
-}
-
-std::string view_blob(uint32_t view, const char* what) {
-  char name[48];
-  std::snprintf(name, sizeof name, "hybrid/view/%05u/%s", view, what);
-  return name;
-}
-
 // Per viewpoint: visible triangles, bit vector, run-length bytes, paper and zstd streams.
 constexpr size_t kSizeFields = 5;
 
@@ -147,7 +138,7 @@ const TechniqueDescriptor hybrid_descriptor{
       HybridOptions o;
       o.d_theta_deg = float(v.number("d_theta"));
       o.d_phi_deg = float(v.number("d_phi"));
-      o.radius_m = float(number_or(v, "radius", 0.0));
+      o.radius_m = float(v.number_or("radius", 0.0));
       o.width = v.integer("width");
       o.height = v.integer("height");
       o.hfov_deg = float(v.number("hfov"));
@@ -203,13 +194,9 @@ Result<void> HybridTechnique::bake(const BakeContext& context) {
   sphere_ = ViewSphere::with_steps(scene.bounds.center(), radius, options_.d_theta_deg,
                                    options_.d_phi_deg);
   const uint32_t triangles = uint32_t(scene.triangle_count());
-  const std::string params = params_text(sphere_, options_, triangles);
-  auto previous = store.get_meta(kParamsKey);
-  if (!previous) return previous.error();
-  if (*previous && **previous != params) {  // another bake's viewpoints: start again
-    if (auto erased = store.erase("hybrid/"); !erased) return erased.error();
-  }
-  if (auto ok = store.set_meta(kParamsKey, params); !ok) return ok;
+  if (auto ok = kBlobs.start(store, params_text(sphere_, options_, triangles), sphere_.count());
+      !ok)
+    return ok;
 
   ObjectSet everything(scene);
   everything.insert_all();
@@ -217,18 +204,9 @@ Result<void> HybridTechnique::bake(const BakeContext& context) {
   everything.emit(list);
   gpu::Renderer& renderer = *context.renderer;
   renderer.set_offscreen(options_.width, options_.height);
-  uint32_t kept = 0;
-  for (uint32_t id = 0; id < sphere_.count(); ++id) {
-    auto done = store.contains(view_blob(id, "sizes"));
-    if (!done) return done.error();
-    kept += *done;
-  }
-  if (kept > 0)
-    std::fprintf(stderr, "hybrid: %u of %u viewpoints already kept in the pack; continuing\n",
-                 kept, sphere_.count());
   context.progress.start("bake hybrid viewpoints", sphere_.count());
   for (uint32_t id = 0; id < sphere_.count(); ++id) {
-    auto done = store.contains(view_blob(id, "sizes"));
+    auto done = kBlobs.done(store, id);
     if (!done) return done.error();
     if (!*done) {
       const std::vector<uint32_t> visible =
@@ -240,11 +218,11 @@ Result<void> HybridTechnique::bake(const BakeContext& context) {
                                            paper.encoded, zstd.encoded};
       auto transaction = store.begin();
       if (!transaction) return transaction.error();
-      if (auto ok = store.put(view_blob(id, "set"), options_.zstd ? zstd_bytes : paper_bytes,
+      if (auto ok = store.put(kBlobs.name(id, "set"), options_.zstd ? zstd_bytes : paper_bytes,
                               Codec::kNone);
           !ok)
         return ok;
-      if (auto ok = store.put(view_blob(id, "sizes"), bytes_of(sizes), Codec::kNone); !ok)
+      if (auto ok = store.put(kBlobs.name(id, "sizes"), bytes_of(sizes), Codec::kNone); !ok)
         return ok;
       if (auto ok = transaction->commit(); !ok) return ok;
     }
@@ -265,12 +243,11 @@ Result<void> HybridTechnique::load(const LoadContext& context) {
                       "hybrid --out PACK.ffpack`, then pass --store PACK.ffpack");
   const Store& store = *context.store;
   // The viewpoints are the bake's.
-  auto params = store.get_meta(kParamsKey);
+  auto params = kBlobs.params(store);
   if (!params) return params.error();
   char codec[8] = {};
   unsigned long long triangles = 0;
-  if (!*params ||
-      std::sscanf((*params)->c_str(), "%d %d %f %f %f %f %d %d %f %7s %llu", &sphere_.longitudes,
+  if (std::sscanf(params->c_str(), "%d %d %f %f %f %f %d %d %f %7s %llu", &sphere_.longitudes,
                   &sphere_.latitudes, &sphere_.centre.x, &sphere_.centre.y, &sphere_.centre.z,
                   &sphere_.radius, &options_.width, &options_.height, &options_.hfov_deg, codec,
                   &triangles) != 11 ||
@@ -279,16 +256,12 @@ Result<void> HybridTechnique::load(const LoadContext& context) {
   if (triangles != scene.triangle_count())
     return make_error(store.path(), ": its hybrid bake is of a scene of ", std::to_string(triangles),
                       " triangles, not this one's ", std::to_string(scene.triangle_count()));
+  if (auto complete = kBlobs.check_complete(store, sphere_.count()); !complete)
+    return complete.error();
   sets_.assign(sphere_.count(), {});
   context.progress.start("read hybrid viewpoints", sphere_.count());
   for (uint32_t id = 0; id < sphere_.count(); ++id) {
-    auto done = store.contains(view_blob(id, "sizes"));
-    if (!done) return done.error();
-    if (!*done)
-      return make_error(store.path(), formatted(": its hybrid bake lacks viewpoint %u of %u; run "
-                                                "the bake again to finish it",
-                                                id, sphere_.count()));
-    auto bytes = store.get(view_blob(id, "set"));
+    auto bytes = store.get(kBlobs.name(id, "set"));
     if (!bytes) return bytes.error();
     sets_[id] = std::move(*bytes);
     context.progress.advance();

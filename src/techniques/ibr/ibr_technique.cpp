@@ -14,12 +14,13 @@
 #include "farfield/scene/path_generator.hpp"
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
+#include "farfield/store/viewpoint_blobs.hpp"
 
 namespace farfield {
 
 namespace {
 
-constexpr const char* kParamsKey = "ibr/params";
+const ViewpointBlobs kBlobs("ibr", "full");  // "full" is written last
 
 constexpr SettingSpec kSettings[] = {
     {.key = "d_theta",
@@ -121,18 +122,8 @@ constexpr SettingSpec kSettings[] = {
      .min_open = true},
 };
 
-double number_or(const SettingValues& v, std::string_view key, double otherwise) {
-  const std::string& text = v.text(key);
-  return text.empty() ? otherwise : std::strtod(text.c_str(), nullptr);
-}
-
-std::string view_blob(uint32_t view, const char* what) {
-  char name[48];
-  std::snprintf(name, sizeof name, "ibr/view/%05u/%s", view, what);
-  return name;
-}
 std::string level_blob(uint32_t view, int level) {
-  return view_blob(view, ("l" + std::to_string(level)).c_str());
+  return kBlobs.name(view, "l" + std::to_string(level));
 }
 
 // The sphere and field of view of the options for `scene`, or why there are none.
@@ -195,8 +186,8 @@ const TechniqueDescriptor ibr_descriptor{
       IbrOptions o;
       o.d_theta_deg = float(v.number("d_theta"));
       o.d_phi_deg = float(v.number("d_phi"));
-      o.radius_m = float(number_or(v, "radius", 0.0));
-      o.fov_deg = float(number_or(v, "fov", 0.0));
+      o.radius_m = float(v.number_or("radius", 0.0));
+      o.fov_deg = float(v.number_or("fov", 0.0));
       o.resolution = v.integer("resolution");
       o.levels = v.integer("levels");
       o.quality = v.integer("quality");
@@ -204,7 +195,7 @@ const TechniqueDescriptor ibr_descriptor{
       o.rule = v.text("pyramid") == "min" ? PyramidRule::min : PyramidRule::mean;
       o.level = v.text("level") == "auto" ? -1 : std::atoi(v.text("level").c_str());
       o.blend = v.text("blend") == "bilinear";
-      o.fast_deg = float(number_or(v, "fast_deg", 0.0));
+      o.fast_deg = float(v.number_or("fast_deg", 0.0));
       return std::unique_ptr<Technique>(std::make_unique<IbrTechnique>(o));
     },
 };
@@ -241,13 +232,9 @@ Result<void> IbrTechnique::bake(const BakeContext& context) {
   auto sphere = sphere_for(scene, options_, fov_deg_);
   if (!sphere) return sphere.error();
   sphere_ = *sphere;
-  const std::string params = params_text(sphere_, fov_deg_, options_);
-  auto previous = store.get_meta(kParamsKey);
-  if (!previous) return previous.error();
-  if (*previous && **previous != params) {  // another bake's viewpoints: start again
-    if (auto erased = store.erase("ibr/"); !erased) return erased.error();
-  }
-  if (auto ok = store.set_meta(kParamsKey, params); !ok) return ok;
+  if (auto ok = kBlobs.start(store, params_text(sphere_, fov_deg_, options_), sphere_.count());
+      !ok)
+    return ok;
 
   ObjectSet everything(scene);
   everything.insert_all();
@@ -259,18 +246,9 @@ Result<void> IbrTechnique::bake(const BakeContext& context) {
   view.near_m = near_plane_for(scene.bounds);
   gpu::Renderer& renderer = *context.renderer;
   renderer.set_offscreen(view.width, view.height);
-  uint32_t kept = 0;
-  for (uint32_t id = 0; id < sphere_.count(); ++id) {
-    auto done = store.contains(view_blob(id, "full"));
-    if (!done) return done.error();
-    kept += *done;
-  }
-  if (kept > 0)
-    std::fprintf(stderr, "ibr: %u of %u viewpoints already kept in the pack; continuing\n", kept,
-                 sphere_.count());
   context.progress.start("bake ibr viewpoints", sphere_.count());
   for (uint32_t id = 0; id < sphere_.count(); ++id) {
-    auto done = store.contains(view_blob(id, "full"));
+    auto done = kBlobs.done(store, id);
     if (!done) return done.error();
     if (*done) {
       context.progress.advance();
@@ -306,7 +284,7 @@ Result<void> IbrTechnique::bake(const BakeContext& context) {
     if (!transaction) return transaction.error();
     for (int l = 0; l < options_.levels; ++l)
       if (auto ok = store.put(level_blob(id, l), stored[l], Codec::kNone); !ok) return ok;
-    if (auto ok = store.put(view_blob(id, "full"), bytes_of(full), Codec::kNone); !ok) return ok;
+    if (auto ok = store.put(kBlobs.name(id, "full"), bytes_of(full), Codec::kNone); !ok) return ok;
     if (auto ok = transaction->commit(); !ok) return ok;
     context.progress.advance();
   }
@@ -325,11 +303,10 @@ Result<void> IbrTechnique::load(const LoadContext& context) {
                       "--out PACK.ffpack`, then pass --store PACK.ffpack");
   const Store& store = *context.store;
   // The viewpoints are the bake's (its settings, and the scene's centre and radius then).
-  auto params = store.get_meta(kParamsKey);
+  auto params = kBlobs.params(store);
   if (!params) return params.error();
   char rule[8] = {};
-  if (!*params ||
-      std::sscanf((*params)->c_str(), "%d %d %f %f %f %f %f %d %d %d %d %7s",
+  if (std::sscanf(params->c_str(), "%d %d %f %f %f %f %f %d %d %d %d %7s",
                   &sphere_.longitudes, &sphere_.latitudes, &sphere_.centre.x, &sphere_.centre.y,
                   &sphere_.centre.z, &sphere_.radius, &fov_deg_, &options_.resolution,
                   &options_.levels, &options_.quality, &options_.difference_quality,
@@ -339,15 +316,11 @@ Result<void> IbrTechnique::load(const LoadContext& context) {
       options_.resolution < 1 || options_.resolution % (1 << (options_.levels - 1)) != 0)
     return make_error(store.path(), ": its ibr bake has no readable parameters; re-bake it");
   options_.rule = std::string(rule) == "min" ? PyramidRule::min : PyramidRule::mean;
+  if (auto complete = kBlobs.check_complete(store, sphere_.count()); !complete)
+    return complete.error();
   jpegs_.assign(sphere_.count(), {});
   context.progress.start("read ibr viewpoints", sphere_.count());
   for (uint32_t id = 0; id < sphere_.count(); ++id) {
-    auto done = store.contains(view_blob(id, "full"));
-    if (!done) return done.error();
-    if (!*done)
-      return make_error(store.path(), formatted(": its ibr bake lacks viewpoint %u of %u; run "
-                                                "the bake again to finish it",
-                                                id, sphere_.count()));
     for (int l = 0; l < options_.levels; ++l) {
       auto bytes = store.get(level_blob(id, l));
       if (!bytes) return bytes.error();
