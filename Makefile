@@ -52,10 +52,10 @@ bench: build
 # libFuzzer targets, built with clang into build-fuzz; FUZZ_SECONDS per target. Every reader of
 # a file or blob has one: scene files, packs (and the decoders), camera paths, bake records,
 # colour-cube trees, stratified viewcells, texture images, clusters LOD sets and hierarchies
-# (with the bake's work batches). Seeds in
+# (with the bake's work batches), hybrid's visible-triangle streams. Seeds in
 # fuzz/corpus/NAME, findings in build-fuzz.
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS = scene_file store camera_path bake_record cube_tree stratified_pack texture_image lod_set cluster_tree
+FUZZ_TARGETS = scene_file store camera_path bake_record cube_tree stratified_pack texture_image lod_set cluster_tree occupancy
 fuzz: deps
 	@cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_COMPILER=clang++-14 -DFARFIELD_FUZZ=ON -DFARFIELD_TESTS=OFF \

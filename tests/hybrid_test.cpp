@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 
 #include "farfield/core/view_sphere.hpp"
 #include "farfield/eval/bake_run.hpp"
@@ -14,6 +16,7 @@
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/scene/path_generator.hpp"
 #include "farfield/scene/tree_generator.hpp"
+#include "farfield/spatial/ray_caster.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/object_set.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
@@ -136,6 +139,94 @@ TEST(HybridGL, AtAViewpointTheFrameIsBrutes) {
       EXPECT_TRUE((*hybrid)->failure().empty());
     }
   }
+}
+
+// Paper 003, Sec. 3: the hybrid frame is the scene's own geometry, so a new light lights it as
+// it lights brute's; and a pixel picks the triangle a CPU ray through it meets first.
+TEST(HybridGL, RelightsAndPicksAsTheScene) {
+  if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
+  Progress quiet(true);
+  auto scene = generate_tree(TreeOptions{}, quiet);
+  ASSERT_TRUE(scene);
+  test::TempDir dir;
+  const std::string pack = dir.file("h.ffpack");
+  ASSERT_TRUE(run_bake(*scene, "hybrid", coarse(), pack, quiet));
+  auto context = gpu::create_headless_context();
+  ASSERT_TRUE(context);
+  auto renderer = gpu::Renderer::create(*scene);
+  ASSERT_TRUE(renderer);
+  auto store = Store::open(pack, Store::Mode::kRead);
+  ASSERT_TRUE(store);
+  const ViewSphere sphere = ViewSphere::with_steps(
+      scene->bounds.center(), float(whole_view_distance(scene->bounds)), 90, 45);
+  View view;
+  view.width = 128;
+  view.height = 96;
+  view.near_m = near_plane_for(scene->bounds);
+  view.pose = sphere.pose(9);
+  auto brute = make_technique("brute");
+  auto hybrid = make_technique("hybrid", coarse());
+  ASSERT_TRUE(brute && hybrid);
+  ASSERT_TRUE(test::load_technique(**brute, *scene, renderer->get()));
+  ASSERT_TRUE(test::load_technique(**hybrid, *scene, renderer->get(), &*store));
+  (*renderer)->set_offscreen(view.width, view.height);
+  DrawList brute_list, hybrid_list;
+  test::select_view(**brute, view, brute_list);
+  test::select_view(**hybrid, view, hybrid_list);
+  (*renderer)->draw(view, brute_list);
+  const Image before = (*renderer)->capture();
+  (*renderer)->set_light(120.0f, 50.0f);
+  (*renderer)->draw(view, brute_list);
+  const Image relit = (*renderer)->capture();
+  (*renderer)->draw(view, hybrid_list);
+  EXPECT_TRUE(compare_images(relit, (*renderer)->capture()).identical());
+  EXPECT_GT(compare_images(before, relit).differing_pixels, 100u) << "the light did not change";
+  // Picking: 100 pixels spread over the tree, against the CPU ray caster (faces as drawn:
+  // the tree's leaves are two triangles back to back). Where they differ, the two triangles
+  // share a vertex or an edge: the pixel's centre on their border, where either is right.
+  const RayCaster caster(*scene);
+  const glm::mat4 inverse = glm::inverse(view.view_projection());
+  std::vector<glm::ivec2> covered;  // pixels that show the tree
+  for (int y = 0; y < view.height; ++y)
+    for (int x = 0; x < view.width; ++x)
+      if (!std::equal(relit.pixel(x, y), relit.pixel(x, y) + 3, relit.pixel(0, 0)))
+        covered.push_back({x, y});
+  ASSERT_GT(covered.size(), 500u);
+  int agree = 0, shared = 0, other = 0, sky = 0;
+  for (int k = 0; k < 100; ++k) {
+    const int x = covered[k * covered.size() / 100].x, y = covered[k * covered.size() / 100].y;
+    const std::optional<uint32_t> picked = (*renderer)->pick(*scene, view, hybrid_list, x, y);
+    const glm::vec2 ndc((float(x) + 0.5f) / float(view.width) * 2.0f - 1.0f,
+                        1.0f - (float(y) + 0.5f) / float(view.height) * 2.0f);
+    const glm::vec4 a = inverse * glm::vec4(ndc, 1.0f, 1.0f), b = inverse * glm::vec4(ndc, 0.5f, 1.0f);
+    const glm::vec3 origin = glm::vec3(a) / a.w;
+    const auto hit = caster.cast(origin, glm::normalize(glm::vec3(b) / b.w - origin), 1e6f,
+                                 RayCaster::Faces::as_drawn);
+    if (!picked && !hit) {
+      ++sky;
+    } else if (picked && hit && *picked == hit->triangle) {
+      ++agree;
+    } else if (picked && hit) {
+      auto corners = [&](uint32_t t) {
+        return std::vector<glm::vec3>{scene->vertices[scene->indices[3 * t]].position,
+                                      scene->vertices[scene->indices[3 * t + 1]].position,
+                                      scene->vertices[scene->indices[3 * t + 2]].position};
+      };
+      const auto p = corners(*picked), q = corners(hit->triangle);
+      const bool touch = std::any_of(p.begin(), p.end(), [&](const glm::vec3& v) {
+        return std::any_of(q.begin(), q.end(),
+                           [&](const glm::vec3& w) { return glm::length(v - w) < 1e-5f; });
+      });
+      ++(touch ? shared : other);
+    } else {
+      ++other;
+    }
+  }
+  std::printf("picking, 100 pixels: %d agree with the ray cast, %d on a shared vertex or edge, "
+              "%d sky, %d otherwise\n", agree, shared, sky, other);
+  EXPECT_GE(agree, 90);
+  EXPECT_LE(sky, 2);
+  EXPECT_LE(other, 2);
 }
 
 TEST(HybridCli, ABakeGoesOnFromItsViewpointsReportsTable3AndNamesDamage) {

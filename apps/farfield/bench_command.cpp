@@ -18,6 +18,7 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
     std::vector<std::string> settings;
     bool quiet = false, no_plot = false;
     size_t frames = 0;
+    std::vector<float> light;  // heading, elevation
   };
   auto s = std::make_shared<Settings>();
   const std::string technique_help =
@@ -63,6 +64,12 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
                   "Also save a bird's-eye picture of each sample frame from this many metres "
                   "above the eye (frustum in red; stratified adds its viewcell and box)")
       ->check(number_range(0, 100000));
+  cmd->add_option("--light", s->light,
+                  "HEADING,ELEVATION: the two lights (opposite headings) turned and raised to "
+                  "these degrees, for every technique alike (default 30,14); images baked "
+                  "earlier keep their light")
+      ->expected(2)
+      ->delimiter(',');
   cmd->add_option("--budget-ms", s->bench.budget_ms,
                   "Frame-time budget for every technique, ms (0: none); techniques that hold a "
                   "frame time read it")
@@ -82,6 +89,10 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
                           if (auto ok = s->bench.settings.add(setting); !ok)
                             return usage_error(ok.error().message);
                         s->bench.plot = !s->no_plot;
+                        if (s->light.size() == 2) {
+                          s->bench.light_heading_deg = s->light[0];
+                          s->bench.light_elevation_deg = s->light[1];
+                        }
                         auto path = read_camera_path(s->path);
                         if (!path) return fail(path.error().message);
                         if (s->frames > path->frames.size())

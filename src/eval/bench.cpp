@@ -60,6 +60,11 @@ Result<void> check_options(const BenchOptions& o, const CameraPath& path) {
   if (o.techniques.empty()) return make_error("--technique names no technique");
   if (!(o.budget_ms >= 0.0 && o.budget_ms <= 10000.0))
     return make_error("--budget-ms must be within 0..10000 ms");
+  if (!(std::abs(o.light_heading_deg) <= 360.0f && std::abs(o.light_elevation_deg) <= 90.0f))
+    return make_error("--light: a heading within -360..360 and an elevation within -90..90 "
+                      "degrees (got ",
+                      number_text(o.light_heading_deg), ", ", number_text(o.light_elevation_deg),
+                      ")");
   if (o.interleave && o.pipelined)
     return make_error(
         "--interleave and --pipelined cannot be combined: a pipelined run "
@@ -355,6 +360,7 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
   auto renderer = gpu::Renderer::create(scene);
   if (!renderer) return renderer.error();
   (*renderer)->set_offscreen(options.width, options.height);
+  (*renderer)->set_light(options.light_heading_deg, options.light_elevation_deg);
 
   BenchReport report;
   report.renderer = (*context)->renderer_name();

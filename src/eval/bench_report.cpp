@@ -40,6 +40,7 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
   root["renderer"] = report.renderer;
   root["warmup_frames"] = options.warmup_frames;
   root["budget_ms"] = options.budget_ms;
+  root["light_deg"] = {options.light_heading_deg, options.light_elevation_deg};
   root["interleaved"] = report.interleaved;
   root["pipelined"] = report.pipelined;
   root["techniques"] = json::array();

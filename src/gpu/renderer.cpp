@@ -12,7 +12,9 @@
 #include <string>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <glm/matrix.hpp>
 #include <glm/trigonometric.hpp>
 
 #include "farfield/core/assert.hpp"
@@ -73,6 +75,7 @@ struct Renderer::State {
     SceneChunk range;
     GLuint vertex_buffer = 0, index_buffer = 0, vao = 0;
     GLuint uv_buffer = 0;  // textured scenes: the chunk's texture coordinates (0 elsewhere)
+    GLuint indexed_vao = 0;  // the same, its indices from indexed_buffer (DrawList::scene_indices)
   };
   std::vector<Chunk> chunks;
   // How a material is drawn: its texture array (-1: untextured) and whether back faces are
@@ -132,6 +135,10 @@ struct Renderer::State {
   std::vector<DrawCommand> commands;     // staging, capacity kept between frames
   bool has_timer = false;
   float clear_alpha = 1.0f;
+  // This frame's DrawList::scene_indices, read by the chunks' indexed_vao.
+  GLuint indexed_buffer = 0;
+  size_t indexed_capacity = 0;  // in indices
+  std::vector<DrawRange> sorted_runs;
   // The visibility pass: its programs, per command the first triangle, the occupancy bits.
   std::vector<uint8_t> see_through;  // per material: blended or cut out
   GLuint visibility_depth_program = 0, visibility_mark_program = 0;
@@ -142,8 +149,10 @@ struct Renderer::State {
     for (const Chunk& c : chunks) {
       const GLuint chunk_buffers[] = {c.vertex_buffer, c.index_buffer, c.uv_buffer};
       glDeleteBuffers(3, chunk_buffers);
-      glDeleteVertexArrays(1, &c.vao);
+      const GLuint chunk_vaos[] = {c.vao, c.indexed_vao};
+      glDeleteVertexArrays(2, chunk_vaos);
     }
+    glDeleteBuffers(1, &indexed_buffer);
     const GLuint buffers[] = {material_buffer, indirect_buffer,       stream_buffer,
                               quad_buffer,     line_buffer,           texturing_buffer,
                               occupancy_buffer, first_triangle_buffer};
@@ -207,6 +216,58 @@ struct Renderer::State {
         at = stop;
       }
     }
+  }
+
+  // Runs of DrawList::scene_indices: a command each (split where they cross chunks), after
+  // the batches of ranges; opaque runs grouped by drawing as the ranges are.
+  void add_indexed_runs(const DrawList& list, const std::vector<DrawRange>& runs,
+                        std::vector<SceneBatch>& batches, bool opaque) {
+    const std::vector<DrawRange>* in = &runs;
+    if (opaque && !uniform_drawing) {
+      sorted_runs = runs;
+      std::stable_sort(sorted_runs.begin(), sorted_runs.end(),
+                       [&](const DrawRange& a, const DrawRange& b) {
+                         return drawings[a.material] < drawings[b.material];
+                       });
+      in = &sorted_runs;
+    }
+    for (const DrawRange& r : *in) {
+      FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
+                    uint64_t(r.first_index) + r.index_count <= list.scene_indices.size() &&
+                    r.material < white_material,
+                "indexed run [%u, +%u) material %u outside the list's %zu indices", r.first_index,
+                r.index_count, r.material, list.scene_indices.size());
+      const Drawing drawing = drawings[r.material];
+      for (uint32_t at = r.first_index, end = r.first_index + r.index_count; at < end;) {
+        const size_t c = chunk_of_vertex(chunk_ranges, list.scene_indices[at]);
+        uint32_t stop = at + 3;
+        while (stop < end && chunk_of_vertex(chunk_ranges, list.scene_indices[stop]) == c)
+          stop += 3;
+        if (batches.empty() || batches.back().vao != chunks[c].indexed_vao ||
+            batches.back().drawing != drawing)
+          batches.push_back({chunks[c].indexed_vao, commands.size(), 0, drawing});
+        commands.push_back(
+            {stop - at, 1, at, -GLint(chunk_ranges[c].first_vertex), r.material});
+        batches.back().count++;
+        at = stop;
+      }
+    }
+  }
+
+  void upload_scene_indices(const DrawList& list) {
+    if (list.scene_indices.empty()) return;
+    if (list.scene_indices.size() > indexed_capacity) {
+      indexed_capacity = std::bit_ceil(list.scene_indices.size());
+      glDeleteBuffers(1, &indexed_buffer);
+      const Result<void> made =
+          make_buffer(indexed_buffer, "scene index stream", indexed_capacity * sizeof(uint32_t),
+                      nullptr, GL_DYNAMIC_STORAGE_BIT);
+      FF_ASSERT(made.ok(), "%s", made.error().message.c_str());
+      for (const Chunk& c : chunks) glVertexArrayElementBuffer(c.indexed_vao, indexed_buffer);
+    }
+    glNamedBufferSubData(indexed_buffer, 0,
+                         GLsizeiptr(list.scene_indices.size() * sizeof(uint32_t)),
+                         list.scene_indices.data());
   }
 
   // A range of a scene mesh: one command, indices from the mesh's start.
@@ -611,6 +672,13 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
     if (textured)
       if (auto ok = add_texture_coordinates(scene, c.vao, range, c.uv_buffer); !ok)
         return ok.error();
+    glCreateVertexArrays(1, &c.indexed_vao);
+    glVertexArrayVertexBuffer(c.indexed_vao, 0, c.vertex_buffer, 0, sizeof(Vertex));
+    s.bind_scene_attributes(c.indexed_vao);
+    if (c.uv_buffer) {
+      glVertexArrayVertexBuffer(c.indexed_vao, 3, c.uv_buffer, 0, sizeof(glm::vec2));
+      set_attribute(c.indexed_vao, kTexcoordAttrib, 2, GL_FLOAT, GL_FALSE, 0, 3);
+    }
   }
   glCreateVertexArrays(1, &s.vao);
 
@@ -644,6 +712,9 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
   s.commands.clear();
   s.add_scene_ranges(list.opaque, s.opaque_batches, true);
   s.add_scene_ranges(list.transparent, s.transparent_batches, false);
+  s.add_indexed_runs(list, list.indexed_opaque, s.opaque_batches, true);
+  s.add_indexed_runs(list, list.indexed_transparent, s.transparent_batches, false);
+  s.upload_scene_indices(list);
   const size_t scene_commands = s.commands.size();
   s.plan_meshes(list);  // its commands follow the scene's
   s.reserve_commands(s.commands.size());
@@ -676,7 +747,8 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
   return s.end_frame({0.0, list.triangle_count(), calls});
 }
 
-std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawList& list) {
+std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawList& list,
+                                                  const glm::ivec2* pixel) {
   State& s = *state_;
   if (s.visibility_depth_program == 0) {
     s.visibility_depth_program = build_visibility_depth_program();
@@ -690,7 +762,16 @@ std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawLi
   };
   std::vector<Command> kinds[3];
   std::vector<uint32_t> firsts;
-  for (const auto* ranges : {&list.opaque, &list.transparent})
+  // Indexed runs as ranges of one triangle each, by the triangles' numbers.
+  std::vector<DrawRange> singles;
+  for (const auto* runs : {&list.indexed_opaque, &list.indexed_transparent})
+    for (const DrawRange& r : *runs)
+      for (uint32_t k = r.first_index / 3; k < (r.first_index + r.index_count) / 3; ++k) {
+        FF_ASSERT(k < list.scene_triangles.size(), "indexed run past the list's triangle numbers");
+        singles.push_back({3 * list.scene_triangles[k], 3, r.material, {}});
+      }
+  const std::vector<DrawRange>* all_ranges[] = {&list.opaque, &list.transparent, &singles};
+  for (const auto* ranges : all_ranges)
     for (const DrawRange& r : *ranges) {
       if (r.mesh) continue;
       FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
@@ -756,6 +837,10 @@ std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawLi
   const glm::mat4 view_projection = view.view_projection();
   s.begin_frame(view_projection, view.width, view.height);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  if (pixel) {  // rows counted from the top, GL's from the bottom
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(pixel->x, view.height - 1 - pixel->y, 1, 1);
+  }
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, s.indirect_buffer);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, s.occupancy_buffer);
   // Draws the commands of kinds [from, to), runs of one vertex array a multi-draw each.
@@ -797,6 +882,7 @@ std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawLi
   for (const State::Chunk& c : s.chunks) glDisableVertexArrayAttrib(c.vao, kFirstTriangleAttrib);
   glDepthMask(GL_TRUE);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDisable(GL_SCISSOR_TEST);
   glBindVertexArray(s.vao);
   glUseProgram(s.program);
   std::vector<uint32_t> bits(words);
@@ -805,6 +891,48 @@ std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawLi
     for (uint32_t word = bits[w]; word != 0; word &= word - 1)
       visible.push_back(uint32_t(w * 32 + size_t(std::countr_zero(word))));
   return visible;
+}
+
+std::optional<uint32_t> Renderer::pick(const Scene& scene, const View& view, const DrawList& list,
+                                       int x, int y) {
+  FF_ASSERT(x >= 0 && y >= 0 && x < view.width && y < view.height, "pixel %d, %d outside %d x %d",
+            x, y, view.width, view.height);
+  const glm::ivec2 pixel(x, y);
+  const std::vector<uint32_t> there = visible_triangles(view, list, &pixel);
+  // The ray through the pixel's centre, in the view's frame.
+  const glm::mat4 inverse = glm::inverse(view.view_projection());
+  const glm::vec2 ndc((float(x) + 0.5f) / float(view.width) * 2.0f - 1.0f,
+                      1.0f - (float(y) + 0.5f) / float(view.height) * 2.0f);
+  const glm::vec4 near = inverse * glm::vec4(ndc, 1.0f, 1.0f);  // reversed Z: 1 is near
+  const glm::vec4 far = inverse * glm::vec4(ndc, 0.5f, 1.0f);
+  const glm::vec3 origin = glm::vec3(near) / near.w;
+  const glm::vec3 direction = glm::normalize(glm::vec3(far) / far.w - origin);
+  std::optional<uint32_t> best;
+  float nearest = INFINITY;
+  for (uint32_t t : there) {
+    FF_ASSERT(3 * size_t(t) + 2 < scene.indices.size(), "triangle %u outside the scene", t);
+    const glm::vec3 a = scene.vertices[scene.indices[3 * size_t(t)]].position,
+                    b = scene.vertices[scene.indices[3 * size_t(t) + 1]].position,
+                    c = scene.vertices[scene.indices[3 * size_t(t) + 2]].position;
+    // Distance along the ray to the triangle's plane (the pixel's centre lies in the
+    // triangle: the rasteriser covered it).
+    const glm::vec3 n = glm::cross(b - a, c - a);
+    const float along = glm::dot(n, direction);
+    if (along == 0.0f) continue;
+    const float d = glm::dot(n, a - origin) / along;
+    if (d >= 0.0f && d < nearest) {
+      nearest = d;
+      best = t;
+    }
+  }
+  if (!best && !there.empty()) best = there.front();
+  return best;
+}
+
+void Renderer::set_light(float heading_deg, float elevation_deg) {
+  const std::array<glm::vec3, 2> lights = light_directions(heading_deg, elevation_deg);
+  for (GLuint p : {state_->program, state_->textured_scene_program})
+    if (p) glProgramUniform3fv(p, kLightDirUniform, 2, glm::value_ptr(lights[0]));
 }
 
 Result<MeshHandle> Renderer::create_mesh(std::span<const ProxyVertex> vertices,

@@ -53,4 +53,11 @@ size_t chunk_of(const std::vector<SceneChunk>& chunks, uint32_t first_index) {
   return after == chunks.begin() ? 0 : size_t(after - chunks.begin()) - 1;
 }
 
+size_t chunk_of_vertex(const std::vector<SceneChunk>& chunks, uint32_t vertex) {
+  const auto after =
+      std::upper_bound(chunks.begin(), chunks.end(), vertex,
+                       [](uint32_t v, const SceneChunk& c) { return v < c.first_vertex; });
+  return after == chunks.begin() ? 0 : size_t(after - chunks.begin()) - 1;
+}
+
 }  // namespace farfield::gpu

@@ -56,7 +56,7 @@ RayCaster::RayCaster(const Scene& scene) : scene_(scene) {
 }
 
 std::optional<RayHit> RayCaster::cast(const glm::vec3& origin, const glm::vec3& direction,
-                                      float max_distance) const {
+                                      float max_distance, Faces faces) const {
   if (tree_.nodes.empty()) return std::nullopt;
   const glm::vec3 inverse = 1.0f / direction;
   std::optional<RayHit> best;
@@ -80,13 +80,18 @@ std::optional<RayHit> RayCaster::cast(const glm::vec3& origin, const glm::vec3& 
       tested_in_[o] = cast_;
       const Object& object = scene_.objects[o];
       if (!enters(object.bounds, origin, inverse, limit)) continue;
+      const Material& material = scene_.materials[object.material];
+      const bool culled = faces == Faces::as_drawn && !material.double_sided &&
+                          !material.transparent() && material.alpha_mode != AlphaMode::mask;
       for (uint32_t k = object.first_index; k < object.first_index + object.index_count; k += 3) {
-        const auto t = hits_triangle(origin, direction, scene_.vertices[scene_.indices[k]].position,
-                                     scene_.vertices[scene_.indices[k + 1]].position,
-                                     scene_.vertices[scene_.indices[k + 2]].position);
+        const glm::vec3& a = scene_.vertices[scene_.indices[k]].position;
+        const glm::vec3& b = scene_.vertices[scene_.indices[k + 1]].position;
+        const glm::vec3& c = scene_.vertices[scene_.indices[k + 2]].position;
+        if (culled && glm::dot(glm::cross(b - a, c - a), direction) >= 0.0f) continue;
+        const auto t = hits_triangle(origin, direction, a, b, c);
         if (t && *t <= limit) {
           limit = *t;
-          best = RayHit{*t, o};
+          best = RayHit{*t, o, k / 3};
         }
       }
     }

@@ -12,6 +12,7 @@
 #include "farfield/core/progress.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/scene/scene.hpp"
+#include "farfield/gpu/lighting.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
 
 namespace farfield {
@@ -34,6 +35,9 @@ struct BenchOptions {
   bool plot = true;               // frame_times.png through python3-matplotlib
   float birdseye_height = 0;      // > 0: also a bird's-eye picture of each sample frame
   double budget_ms = 0;           // the engine's frame-time budget for every technique; 0: none
+  // The lights' heading and elevation, degrees (gpu/lighting.hpp), for every technique and
+  // brute alike; baked images keep the light they were baked with.
+  float light_heading_deg = gpu::kLightHeadingDeg, light_elevation_deg = gpu::kLightElevationDeg;
   // Time the techniques frame by frame (frame f of each, then f + 1), so that drift on a
   // shared machine falls on all alike; all are loaded at once and peak_rss_mb is the process's.
   bool interleave = false;

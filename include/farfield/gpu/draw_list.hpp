@@ -128,6 +128,16 @@ struct LineSegment {
 struct DrawList {
   std::vector<DrawRange> opaque;
   std::vector<DrawRange> transparent;
+  // Scene triangles too scattered for ranges of the scene's indices (paper 003's visible
+  // triangles: a city's are runs of one or two): their indices, the scene's own (three a
+  // triangle), in `scene_indices`, and runs of them of one material each (DrawRange::
+  // first_index and index_count into scene_indices; `mesh` unused). Drawn lit as the ranges
+  // are, a run one draw command: the opaque runs after the opaque ranges, grouped by how
+  // their materials are drawn as those are; the transparent runs after the transparent
+  // ranges, in order.
+  std::vector<uint32_t> scene_indices;
+  std::vector<uint32_t> scene_triangles;  // per triangle of scene_indices, its number (index / 3)
+  std::vector<DrawRange> indexed_opaque, indexed_transparent;
   std::vector<MeshDraw> meshes;
   std::vector<TextureUpload> uploads;
   std::vector<TexturedQuad> backdrop;
@@ -148,6 +158,10 @@ struct DrawList {
   void clear() {
     opaque.clear();
     transparent.clear();
+    scene_indices.clear();
+    scene_triangles.clear();
+    indexed_opaque.clear();
+    indexed_transparent.clear();
     meshes.clear();
     uploads.clear();
     backdrop.clear();
@@ -161,7 +175,7 @@ struct DrawList {
   uint64_t triangle_count() const {
     uint64_t n = 2 * backdrop.size();
     for (const auto& m : meshes) n += m.index_count / 3;
-    for (const auto* ranges : {&opaque, &transparent})
+    for (const auto* ranges : {&opaque, &transparent, &indexed_opaque, &indexed_transparent})
       for (const auto& r : *ranges) n += r.index_count / 3;
     return n;
   }

@@ -20,12 +20,14 @@ inline constexpr float kLightWeight = 0.55f;      // diffuse weight of each ligh
 inline constexpr float kAmbient = 0.35f;
 inline constexpr float kSkyColor[4] = {0.70f, 0.78f, 0.85f, 1.0f};  // light blue-grey, linear RGB
 
-// Unit directions towards the two lights.
-inline std::array<glm::vec3, 2> light_directions() {
+// Unit directions towards the two lights: the first at `heading_deg` (View's convention),
+// the other opposite, both `elevation_deg` above the horizon.
+inline std::array<glm::vec3, 2> light_directions(float heading_deg = kLightHeadingDeg,
+                                                 float elevation_deg = kLightElevationDeg) {
   std::array<glm::vec3, 2> lights;
   for (int i = 0; i < 2; ++i) {
-    const float heading = glm::radians(kLightHeadingDeg + 180.0f * float(i));
-    const float elevation = glm::radians(kLightElevationDeg);
+    const float heading = glm::radians(heading_deg + 180.0f * float(i));
+    const float elevation = glm::radians(elevation_deg);
     lights[i] = {std::cos(elevation) * std::cos(heading), std::sin(elevation),
                  std::cos(elevation) * std::sin(heading)};
   }

@@ -13,9 +13,11 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 
 #include "farfield/core/image.hpp"
 #include "farfield/core/result.hpp"
@@ -68,7 +70,21 @@ class Renderer final : public Device {
   // (index / 3). Drawing only these gives the frame the whole list gives, pixel for pixel
   // (paper 003, Sec. 3.1.1: there an ID buffer, which keeps one triangle a pixel and so
   // misses what shows through a transparent surface). Uses the offscreen target, as draw.
-  std::vector<uint32_t> visible_triangles(const View& view, const DrawList& list);
+  // With `pixel` (x, y from the top left), that pixel's only.
+  std::vector<uint32_t> visible_triangles(const View& view, const DrawList& list,
+                                          const glm::ivec2* pixel = nullptr);
+  // The scene triangle the list shows at pixel (x, y from the top left) of the frame `view`:
+  // the nearest along the ray through the pixel's centre among those visible there
+  // (see-through ones included); none where the list's scene ranges show nothing there
+  // (the sky, or only technique meshes: stand-ins are not pickable). Paper 003, Sec. 3: the
+  // hybrid renderer keeps picking; this works for every technique that draws scene geometry.
+  // `scene`: the one this renderer draws.
+  std::optional<uint32_t> pick(const Scene& scene, const View& view, const DrawList& list, int x,
+                               int y);
+  // The two lights (lighting.hpp) turned to `heading_deg` and raised to `elevation_deg`, for
+  // every frame drawn after (paper 003, Sec. 3: the hybrid renderer can relight; images
+  // baked earlier keep the light they were baked with).
+  void set_light(float heading_deg, float elevation_deg);
   // Waits until everything drawn so far is finished (the benchmark protocol's glFinish).
   void finish();
 

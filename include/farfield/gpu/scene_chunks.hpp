@@ -25,5 +25,7 @@ Result<std::vector<SceneChunk>> plan_scene_chunks(const Scene& scene, uint64_t m
 
 // The chunk holding scene index `first_index` (chunks from plan_scene_chunks).
 size_t chunk_of(const std::vector<SceneChunk>& chunks, uint32_t first_index);
+// The chunk holding scene vertex `vertex`.
+size_t chunk_of_vertex(const std::vector<SceneChunk>& chunks, uint32_t vertex);
 
 }  // namespace farfield::gpu

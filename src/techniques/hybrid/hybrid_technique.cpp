@@ -314,18 +314,26 @@ void HybridTechnique::build_ranges() {
                    std::back_inserter(scratch_));
     merged_.swap(scratch_);
   }
+  // Visible triangles are scattered (on the default city, runs of one or two): as ranges of
+  // the scene's indices they cost a draw command each (31,447 a frame there, 0.38x brute's
+  // time); as indexed runs of one material, one command a run of objects of that material.
   ranges_.clear();
   uint32_t object = 0;
-  for (size_t i = 0; i < merged_.size();) {
-    const uint32_t first = merged_[i];
-    while (object_end_[object] <= first) ++object;
-    size_t j = i + 1;
-    while (j < merged_.size() && merged_[j] == merged_[j - 1] + 1 && merged_[j] < object_end_[object])
-      ++j;
+  DrawRange* run = nullptr;
+  for (const uint32_t t : merged_) {
+    while (object_end_[object] <= t) ++object;
     const uint32_t material = scene_->objects[object].material;
-    auto& into = scene_->materials[material].transparent() ? ranges_.transparent : ranges_.opaque;
-    into.push_back({3 * first, uint32_t(3 * (j - i)), material, {}});
-    i = j;
+    auto& into = scene_->materials[material].transparent() ? ranges_.indexed_transparent
+                                                            : ranges_.indexed_opaque;
+    const uint32_t at = uint32_t(ranges_.scene_indices.size());
+    if (!run || run->material != material || run->first_index + run->index_count != at ||
+        (&into.back() != run)) {
+      into.push_back({at, 0, material, {}});
+      run = &into.back();
+    }
+    run->index_count += 3;
+    for (int c = 0; c < 3; ++c) ranges_.scene_indices.push_back(scene_->indices[3 * size_t(t) + c]);
+    ranges_.scene_triangles.push_back(t);
   }
 }
 
@@ -366,10 +374,18 @@ void HybridTechnique::select(const FrameInput& input, DrawList& out) {
     build_ranges();
   }
   visible_drawn_ += merged_.size();
-  ranges_drawn_ += ranges_.opaque.size() + ranges_.transparent.size();
-  out.opaque.insert(out.opaque.end(), ranges_.opaque.begin(), ranges_.opaque.end());
-  out.transparent.insert(out.transparent.end(), ranges_.transparent.begin(),
-                         ranges_.transparent.end());
+  ranges_drawn_ += ranges_.indexed_opaque.size() + ranges_.indexed_transparent.size();
+  const uint32_t base = uint32_t(out.scene_indices.size());
+  out.scene_indices.insert(out.scene_indices.end(), ranges_.scene_indices.begin(),
+                           ranges_.scene_indices.end());
+  out.scene_triangles.insert(out.scene_triangles.end(), ranges_.scene_triangles.begin(),
+                             ranges_.scene_triangles.end());
+  for (const auto& [from, into] : {std::pair{&ranges_.indexed_opaque, &out.indexed_opaque},
+                                   std::pair{&ranges_.indexed_transparent, &out.indexed_transparent}})
+    for (DrawRange r : *from) {
+      r.first_index += base;
+      into->push_back(r);
+    }
 }
 
 std::optional<CameraPose> HybridTechnique::start_pose() const {
