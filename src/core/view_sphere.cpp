@@ -63,6 +63,11 @@ CameraPose ViewSphere::pose(uint32_t id) const {
   return pose_on_sphere(centre, radius, longitude_deg(id), latitude_deg(id));
 }
 
+bool ViewSphere::stands_for(const glm::vec3& eye) const {
+  const float distance = glm::length(eye - centre);
+  return distance >= 0.5f * radius && distance <= 2.0f * radius;
+}
+
 uint32_t ViewSphere::nearest(const CameraPose& eye) const {
   uint32_t best = 0;
   float best_weight = -1.0f;

@@ -758,7 +758,7 @@ std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawLi
   // baseInstance is its own number, which reads its first triangle.
   struct Command {
     DrawCommand command;
-    GLuint vao;
+    size_t chunk;
   };
   std::vector<Command> kinds[3];
   std::vector<uint32_t> firsts;
@@ -784,9 +784,8 @@ std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawLi
         const size_t c = chunk_of(s.chunk_ranges, at);
         const SceneChunk& chunk = s.chunks[c].range;
         const uint32_t stop = std::min(end, chunk.first_index + chunk.index_count);
-        kinds[kind].push_back({{stop - at, 1, at - chunk.first_index, -GLint(chunk.first_vertex),
-                                0},
-                               s.chunks[c].vao});
+        kinds[kind].push_back(
+            {{stop - at, 1, at - chunk.first_index, -GLint(chunk.first_vertex), 0}, c});
         at = stop;
       }
     }
@@ -795,10 +794,7 @@ std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawLi
     for (Command& c : k) {
       c.command.base_instance = GLuint(commands.size());
       commands.push_back(c.command);
-      const size_t chunk = size_t(std::find_if(s.chunks.begin(), s.chunks.end(),
-                                               [&](const State::Chunk& ch) { return ch.vao == c.vao; }) -
-                                  s.chunks.begin());
-      firsts.push_back((s.chunks[chunk].range.first_index + c.command.first_index) / 3);
+      firsts.push_back((s.chunks[c.chunk].range.first_index + c.command.first_index) / 3);
     }
   const size_t words = (size_t(s.index_count / 3) + 31) / 32;
   std::vector<uint32_t> visible;
@@ -851,8 +847,8 @@ std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawLi
       if (k == 1) glDisable(GL_CULL_FACE);
       for (size_t b = 0; b < kinds[k].size();) {
         size_t e = b;
-        while (e < kinds[k].size() && kinds[k][e].vao == kinds[k][b].vao) ++e;
-        glBindVertexArray(kinds[k][b].vao);
+        while (e < kinds[k].size() && kinds[k][e].chunk == kinds[k][b].chunk) ++e;
+        glBindVertexArray(s.chunks[kinds[k][b].chunk].vao);
         glMultiDrawElementsIndirect(
             GL_TRIANGLES, GL_UNSIGNED_INT,
             reinterpret_cast<const void*>((first + b) * sizeof(DrawCommand)), GLsizei(e - b), 0);

@@ -12,6 +12,11 @@ void ObjectSet::clear() {
   std::fill(words_.begin(), words_.end(), 0);
 }
 
+void ObjectSet::insert_meeting(const Bounds3& box) {
+  for (uint32_t i = 0; i < scene_.objects.size(); ++i)
+    if (meet(scene_.objects[i].bounds, box)) insert(i);
+}
+
 void ObjectSet::insert_all() {
   std::fill(words_.begin(), words_.end(), ~uint64_t(0));
   if (const size_t tail = scene_.objects.size() % 64; tail != 0)

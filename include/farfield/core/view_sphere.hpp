@@ -33,6 +33,9 @@ struct ViewSphere {
   static ViewSphere with_steps(const glm::vec3& centre, float radius, float d_theta_deg,
                                float d_phi_deg);
   uint32_t count() const { return uint32_t(longitudes) * uint32_t(latitudes); }
+  // Whether what the viewpoints saw stands for what the eye sees: the eye between half and
+  // twice the radius from the centre (ibr and hybrid draw the scene's geometry elsewhere).
+  bool stands_for(const glm::vec3& eye) const;
   float d_theta_deg() const { return 360.0f / float(longitudes); }
   float d_phi_deg() const { return 180.0f / float(latitudes); }
   // Viewpoint `id` = row * longitudes + column.

@@ -19,6 +19,8 @@ class ObjectSet {
   void insert(uint32_t object) { words_[object >> 6] |= uint64_t(1) << (object & 63); }
   bool contains(uint32_t object) const { return (words_[object >> 6] >> (object & 63)) & 1; }
   void insert_all();
+  // Every object whose bounds meet `box` (touching counts: Region::near's objects).
+  void insert_meeting(const Bounds3& box);
   // Appends the set's objects to `out` in scene order, merging contiguous ranges.
   void emit(DrawList& out) const;
 

@@ -23,8 +23,7 @@ Result<void> BruteTechnique::load(const LoadContext& context) {
 void BruteTechnique::select(const FrameInput& input, DrawList& out) {
   if (input.region.kind == Region::Kind::near) {
     near_->clear();
-    for (uint32_t i = 0; i < scene_->objects.size(); ++i)
-      if (meet(scene_->objects[i].bounds, input.region.box)) near_->insert(i);
+    near_->insert_meeting(input.region.box);
     near_->emit(out);
     return;
   }

@@ -382,15 +382,13 @@ void IbrTechnique::select(const FrameInput& input, DrawList& out) {
   const glm::vec3 eye = input.view.pose.position;
   if (input.region.kind == Region::Kind::near) {
     objects_->clear();
-    for (uint32_t i = 0; i < scene_->objects.size(); ++i)
-      if (meet(scene_->objects[i].bounds, input.region.box)) objects_->insert(i);
+    objects_->insert_meeting(input.region.box);
     objects_->emit(out);
     return;
   }
   ++frames_;
   // Far from the sphere the images no longer stand for the model: the geometry instead.
-  const float distance = glm::length(eye - sphere_.centre);
-  if (distance < 0.5f * sphere_.radius || distance > 2.0f * sphere_.radius) {
+  if (!sphere_.stands_for(eye)) {
     ++fallback_frames_;
     objects_->clear();
     objects_->insert_all();
