@@ -6,7 +6,10 @@
 #include <set>
 
 #include "farfield/core/camera_path.hpp"
+#include <glm/geometric.hpp>
+
 #include "farfield/core/image.hpp"
+#include "farfield/eval/image_metrics.hpp"
 #include "farfield/scene/scene_file.hpp"
 #include "test_util.hpp"
 
@@ -71,6 +74,63 @@ TEST(ViewGL, OpensInsideTheBakeWithoutAPath) {
   const uint64_t drawn =
       std::stoull(r.output.substr(r.output.find(", ", r.output.find("ms", at)) + 2));
   EXPECT_LT(drawn, scene->triangle_count()) << r.output;
+}
+
+// Paper 003's controls: orbiting the scene's centre on the sphere of path --kind orbit, the
+// lights turned, and a pixel picked (as a click does) naming its triangle and object.
+TEST(ViewGL, OrbitsPicksAndRelights) {
+  if (!std::filesystem::exists("/usr/bin/xvfb-run")) GTEST_SKIP() << "xvfb-run not installed";
+  test::TempDir dir;
+  ASSERT_EQ(
+      test::run_farfield("generate city --blocks 2 -q --out " + dir.file("c.ffscene")).exit_status,
+      0);
+  ASSERT_EQ(test::run_farfield("path " + dir.file("c.ffscene") +
+                               " --kind orbit --frames 10 --out " + dir.file("o.json"))
+                .exit_status,
+            0);
+  const std::string xvfb = "xvfb-run -a -s '-screen 0 800x600x24' ";
+  const std::string view = "view " + dir.file("c.ffscene") +
+                           " -t brute --orbit --width 320 --height 240 --frames 2 ";
+  // The middle pixel looks at the city's centre; the top left corner at the sky.
+  auto r = test::run_farfield(view + "--pick 160,120 --screenshot " + dir.file("a.png") +
+                                  " --record " + dir.file("rec.json"),
+                              "", xvfb);
+  ASSERT_EQ(r.exit_status, 0) << r.output;
+  auto scene = read_scene(dir.file("c.ffscene"));
+  ASSERT_TRUE(scene);
+  const size_t at = r.output.find("picked pixel (160, 120): triangle ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  const uint64_t triangle = std::stoull(r.output.substr(at + 34));
+  const size_t of = r.output.find("of object ", at);
+  ASSERT_NE(of, std::string::npos) << r.output;
+  const uint32_t object = uint32_t(std::stoul(r.output.substr(of + 10)));
+  ASSERT_LT(object, scene->objects.size());
+  const Object& o = scene->objects[object];
+  EXPECT_GE(3 * triangle, o.first_index);
+  EXPECT_LT(3 * triangle, uint64_t(o.first_index) + o.index_count);
+  EXPECT_NE(r.output.find("'" + std::string(scene->object_name(o)) + "'", of), std::string::npos)
+      << r.output;
+  // Orbiting with no key down stays at the orbit's first frame.
+  auto recorded = read_camera_path(dir.file("rec.json"));
+  auto orbit = read_camera_path(dir.file("o.json"));
+  ASSERT_TRUE(recorded && orbit);
+  EXPECT_LT(glm::distance(recorded->frames.back().position, orbit->frames.front().position), 0.01f);
+
+  auto sky = test::run_farfield(view + "--pick 0,0 --light 120,50 --screenshot " +
+                                    dir.file("b.png"), "", xvfb);
+  ASSERT_EQ(sky.exit_status, 0) << sky.output;
+  EXPECT_NE(sky.output.find("picked pixel (0, 0): no scene triangle"), std::string::npos)
+      << sky.output;
+  auto a = read_png(dir.file("a.png")), b = read_png(dir.file("b.png"));
+  ASSERT_TRUE(a && b);
+  EXPECT_GT(compare_images(*a, *b).differing_pixels, 1000u) << "the light did not turn";
+
+  for (const char* bad : {"--pick 320,0", "--pick -1,5", "--light 400,10", "--light 10,95"}) {
+    auto refused = test::run_farfield(view + bad, "", xvfb);
+    EXPECT_EQ(refused.exit_status, 2) << bad << ": " << refused.output;
+    EXPECT_NE(refused.output.find(std::string(bad).substr(0, 6)), std::string::npos)
+        << refused.output;
+  }
 }
 
 TEST(View, WithoutADisplayItFailsWithAMessage) {

@@ -1,5 +1,6 @@
-// farfield view SCENE: a window to walk through a scene (paper 000, Sec. 5.1), switching
-// technique at run time, with frame time, triangles and draw calls on screen.
+// farfield view SCENE: a window to walk through a scene (paper 000, Sec. 5.1) or orbit a model
+// seen from outside (paper 003), switching technique at run time, with frame time, triangles
+// and draw calls on screen; the lights turn, and a click names the object under the cursor.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include "farfield/core/image.hpp"
 #include "farfield/core/camera_path.hpp"
 #include "farfield/core/navigation.hpp"
+#include "farfield/gpu/lighting.hpp"
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/gpu/window.hpp"
 #include "farfield/scene/path_generator.hpp"
@@ -38,7 +40,30 @@ struct ViewSettings {
   float hfov_deg = 90.0f;
   float budget_ms = 0.0f;
   float birdseye_height = 0.0f;  // > 0: start in the bird's-eye view
+  bool orbit = false;            // start orbiting the scene's centre
+  std::vector<float> light;      // heading, elevation
+  std::vector<int> pick;         // x, y: pick this pixel once a frame is drawn
 };
+
+// What a click found: the object and triangle at a pixel.
+struct Picked {
+  glm::ivec2 pixel{0};
+  std::optional<uint32_t> triangle, object;
+};
+
+std::string describe(const Scene& scene, const Picked& p) {
+  char where[64];
+  std::snprintf(where, sizeof where, "pixel (%d, %d): ", p.pixel.x, p.pixel.y);
+  if (!p.triangle) return std::string(where) + "no scene triangle (sky, or a stand-in)";
+  std::string text = std::string(where) + "triangle " + std::to_string(*p.triangle);
+  if (p.object) {
+    const Object& o = scene.objects[*p.object];
+    text += " of object " + std::to_string(*p.object) + " '" +
+            std::string(scene.object_name(o)) + "' (" + std::string(object_kind_name(o.kind)) +
+            ", " + counted(o.triangle_count(), "triangle") + ")";
+  }
+  return text;
+}
 
 constexpr float kDefaultBirdseyeHeight = 300.0f;
 
@@ -90,6 +115,14 @@ int run_viewer(const ViewSettings& s) {
     if (!opened) return fail(opened.error().message);
     store.emplace(std::move(*opened));
   }
+  if (s.light.size() == 2 && !(std::abs(s.light[0]) <= 360.0f && std::abs(s.light[1]) <= 90.0f))
+    return usage_error("--light: a heading within -360..360 and an elevation within -90..90 "
+                       "degrees, not " + number_text(s.light[0]) + ", " + number_text(s.light[1]));
+  if (s.pick.size() == 2 && !(s.pick[0] >= 0 && s.pick[1] >= 0 && s.pick[0] < s.width &&
+                              s.pick[1] < s.height))
+    return usage_error("--pick: a pixel inside the " + std::to_string(s.width) + " x " +
+                       std::to_string(s.height) + " window, not " + std::to_string(s.pick[0]) +
+                       ", " + std::to_string(s.pick[1]));
   TechniqueSettings settings;
   for (const std::string& setting : s.settings)
     if (auto ok = settings.add(setting); !ok) return usage_error(ok.error().message);
@@ -162,6 +195,21 @@ int run_viewer(const ViewSettings& s) {
   const WalkOptions walk_options = walk_options_for(scene->bounds);
   bool walking = true, g_was_down = false;
   const NavigationSpeeds speeds = speeds_for(*scene);
+  // Orbiting (O): about the scene's centre, as ibr's and hybrid's viewpoints and path --kind
+  // orbit are; entered through the eye where it stands.
+  bool orbiting = s.orbit, o_was_down = false;
+  const float min_orbit_radius = near_plane_for(scene->bounds) * 4.0f;
+  Orbit orbit = Orbit::through(pose, scene->bounds.center(), min_orbit_radius);
+  float light[2] = {gpu::kLightHeadingDeg, gpu::kLightElevationDeg};
+  if (s.light.size() == 2) light[0] = s.light[0], light[1] = s.light[1];
+  (*renderer)->set_light(light[0], light[1]);
+  // A click (or --pick) is answered at the start of the next frame, in the frame it was made
+  // on: its view and selection (the pass draws into the window, which that frame redraws).
+  std::optional<glm::ivec2> pick_at;
+  if (s.pick.size() == 2) pick_at = glm::ivec2(s.pick[0], s.pick[1]);
+  std::optional<Picked> picked;
+  bool mouse_was_down = false;
+  View last_view;
   bool playing = !path.frames.empty();
   size_t path_frame = 0;
   int frame = 0;
@@ -184,13 +232,22 @@ int run_viewer(const ViewSettings& s) {
     if (w.key_down(GLFW_KEY_ESCAPE)) w.close();
     const bool typing = ImGui::GetIO().WantCaptureKeyboard;
     const bool tab = w.key_down(GLFW_KEY_TAB), p = w.key_down(GLFW_KEY_P),
-               b = w.key_down(GLFW_KEY_B), g = w.key_down(GLFW_KEY_G), c = w.key_down(GLFW_KEY_C);
+               b = w.key_down(GLFW_KEY_B), g = w.key_down(GLFW_KEY_G), c = w.key_down(GLFW_KEY_C),
+               o = w.key_down(GLFW_KEY_O);
     const size_t before = current;
     if (tab && !tab_was_down && !typing) current = (current + 1) % techniques.size();
     if (p && !p_was_down && !typing && !path.frames.empty()) playing = !playing;
     if (b && !b_was_down && !typing) birdseye = !birdseye;
     if (g && !g_was_down && !typing) walking = !walking;
     if (c && !c_was_down && !typing) tinted = !tinted;
+    if (o && !o_was_down && !typing) {
+      orbiting = !orbiting;
+      if (orbiting) orbit = Orbit::through(pose, scene->bounds.center(), min_orbit_radius);
+    }
+    o_was_down = o;
+    const bool mouse = w.mouse_down(GLFW_MOUSE_BUTTON_LEFT);
+    if (mouse && !mouse_was_down && !ImGui::GetIO().WantCaptureMouse) pick_at = w.cursor_pixel();
+    mouse_was_down = mouse;
     c_was_down = c;
     g_was_down = g;
     tab_was_down = tab;
@@ -202,6 +259,9 @@ int run_viewer(const ViewSettings& s) {
     if (playing) {
       pose = path.frames[path_frame];
       path_frame = (path_frame + 1) % path.frames.size();
+    } else if (orbiting && !typing) {
+      orbit = navigate(orbit, keys_to_input(w), speeds, dt);
+      pose = orbit.pose();
     } else if (!typing) {
       const CameraPose moved = navigate(pose, keys_to_input(w), speeds, dt);
       pose = walking ? walk(caster, pose, moved, walk_options) : moved;
@@ -213,6 +273,18 @@ int run_viewer(const ViewSettings& s) {
     w.framebuffer_size(view.width, view.height);
     view.hfov_deg = s.hfov_deg;
     view.near_m = near_plane_for(scene->bounds);
+    if (pick_at && frame > 0) {
+      Picked p;
+      p.pixel = *pick_at;
+      if (p.pixel.x >= 0 && p.pixel.y >= 0 && p.pixel.x < last_view.width &&
+          p.pixel.y < last_view.height) {
+        p.triangle = (*renderer)->pick(*scene, last_view, loop.last_list(), p.pixel.x, p.pixel.y);
+        if (p.triangle) p.object = object_of_triangle(*scene, *p.triangle);
+        std::printf("picked %s\n", describe(*scene, p).c_str());
+        picked = p;
+      }
+      pick_at.reset();
+    }
     const auto start = std::chrono::steady_clock::now();
     if (!unavailable[current].empty()) current = before;
     if (auto ok = show(current); !ok) {
@@ -232,6 +304,7 @@ int run_viewer(const ViewSettings& s) {
       exit_status = fail(failure);
       break;
     }
+    last_view = view;
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     smoothed_ms = frame == 0 ? ms : 0.9 * smoothed_ms + 0.1 * ms;
@@ -268,6 +341,25 @@ int run_viewer(const ViewSettings& s) {
     if (const std::string built = shown.describe(); !built.empty())
       ImGui::TextWrapped("%s", built.c_str());
     ImGui::Checkbox("colour by representation (C)", &tinted);
+    // paper 003, Sec. 3: geometry drawn each frame can be relit (baked images keep their light).
+    const bool turned = ImGui::SliderFloat("light heading", &light[0], 0.0f, 360.0f, "%.0f");
+    if (ImGui::SliderFloat("light elevation", &light[1], -90.0f, 90.0f, "%.0f") || turned)
+      (*renderer)->set_light(light[0], light[1]);
+    if (orbiting)
+      ImGui::Text("orbit: longitude %.1f  latitude %.1f  radius %.1f m", orbit.longitude_deg,
+                  orbit.latitude_deg, orbit.radius);
+    if (picked) {
+      ImGui::TextWrapped("picked %s", describe(*scene, *picked).c_str());
+      // The pixel marked (ImGui draws in window coordinates).
+      const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
+      const ImVec2 at(float(picked->pixel.x) / std::max(scale.x, 1e-3f),
+                      float(picked->pixel.y) / std::max(scale.y, 1e-3f));
+      ImGui::GetForegroundDrawList()->AddCircle(at, 9.0f, IM_COL32(255, 40, 40, 255), 0, 2.0f);
+      ImGui::GetForegroundDrawList()->AddLine(ImVec2(at.x - 14, at.y), ImVec2(at.x + 14, at.y),
+                                              IM_COL32(255, 40, 40, 255));
+      ImGui::GetForegroundDrawList()->AddLine(ImVec2(at.x, at.y - 14), ImVec2(at.x, at.y + 14),
+                                              IM_COL32(255, 40, 40, 255));
+    }
     // The technique's own figures as they run (clusters: switches, clusters drawn, ...).
     if (ImGui::CollapsingHeader("figures"))
       for (const auto& [key, value] : shown.figures()) ImGui::Text("%s %.6g", key.c_str(), value);
@@ -276,15 +368,18 @@ int run_viewer(const ViewSettings& s) {
                   path.frames.size(), playing ? "pause" : "play");
     if (!notice.empty()) ImGui::TextWrapped("%s", notice.c_str());
     ImGui::TextDisabled(
-        "W/S move  A/D turn  E/Q up/down  R/F look  Shift fast  Tab/1-9 technique"
-        "  B bird's-eye%s  C colour  G %s",
-        birdseye ? " (on)" : "", walking ? "fly (walking now)" : "walk (flying now)");
+        "%s  Shift fast  Tab/1-9 technique  B bird's-eye%s  C colour  G %s  O %s  click: pick",
+        orbiting ? "A/D round  R/F up/down  W/S nearer/farther"
+                 : "W/S move  A/D turn  E/Q up/down  R/F look",
+        birdseye ? " (on)" : "", walking ? "fly (walking now)" : "walk (flying now)",
+        orbiting ? "walk (orbiting now)" : "orbit");
     ImGui::End();
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 
     ++frame;
-    if (!s.screenshot.empty() && frame >= std::max(s.frames, 1)) {
+    // A pick is answered at the start of the next frame: a screenshot waits for it.
+    if (!s.screenshot.empty() && frame >= std::max(s.frames, 1) && !pick_at) {
       if (auto ok = write_image((*renderer)->capture(), s.screenshot); !ok) {
         exit_status = fail(ok.error().message);
       } else {
@@ -295,7 +390,7 @@ int run_viewer(const ViewSettings& s) {
                     (unsigned long long)techniques[current]->fallback_frames());
       }
       w.close();
-    } else if (s.screenshot.empty() && s.frames > 0 && frame >= s.frames) {
+    } else if (s.screenshot.empty() && s.frames > 0 && frame >= s.frames && !pick_at) {
       w.close();
     }
     w.swap_buffers();
@@ -319,7 +414,9 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
       "view",
       "Walk through a scene in a window. Keys: W/S or arrows forward/back, A/D turn, "
       "E/Q or PageUp/PageDown ascend/descend, R/F look up/down, Shift faster, Tab or 1-9 "
-      "switch technique, B bird's-eye view, P play/pause the path, G walk/fly, Esc quit. "
+      "switch technique, B bird's-eye view, P play/pause the path, G walk/fly, O orbit the "
+      "scene's centre (A/D round, R/F up/down, W/S nearer/farther), click: name the object "
+      "and triangle under the cursor, Esc quit. "
       "Walking (the default) keeps the eye at eye height over the ground and stops it short of "
       "walls; where there is no ground below, it flies");
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
@@ -350,6 +447,22 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
                   "Frame-time budget for every technique, ms (0: none); a slider changes it")
       ->check(number_range(0, 10000));
   cmd->add_option("--record", s->record, "Write the poses of the session as a camera path on exit");
+  cmd->add_flag("--orbit", s->orbit,
+                "Start orbiting the scene's centre (O toggles): A/D round, R/F up and down, W/S "
+                "nearer and farther, on the sphere of ibr's and hybrid's viewpoints and of "
+                "'path --kind orbit'");
+  cmd->add_option("--light", s->light,
+                  "HEADING,ELEVATION: the two lights (opposite headings) turned and raised to "
+                  "these degrees (default 30,14; sliders change them); images baked earlier "
+                  "keep their light")
+      ->expected(2)
+      ->delimiter(',');
+  cmd->add_option("--pick", s->pick,
+                  "X,Y: once a frame is drawn, pick the scene triangle at this pixel (from the "
+                  "top left) as a click does, print its object and triangle and mark it "
+                  "(with --screenshot, in the picture)")
+      ->expected(2)
+      ->delimiter(',');
   commands.push_back({cmd, [s] { return run_viewer(*s); }});
 }
 

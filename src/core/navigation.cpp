@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
+
+#include "farfield/core/view_sphere.hpp"
 
 namespace farfield {
 
@@ -21,6 +24,39 @@ CameraPose navigate(const CameraPose& pose, const NavigationInput& in,
   const glm::vec3 heading(std::cos(yaw), 0.0f, std::sin(yaw));
   next.position += heading * (in.forward * speeds.move_m_per_s * boost * seconds);
   next.position.y += in.climb * speeds.climb_m_per_s * boost * seconds;
+  return next;
+}
+
+Orbit Orbit::through(const CameraPose& pose, const glm::vec3& centre, float min_radius) {
+  Orbit o;
+  o.centre = centre;
+  const glm::vec3 d = pose.position - centre;
+  const float length = glm::length(d);
+  o.radius = std::max(length, min_radius);
+  if (length > 0.0f) {
+    o.longitude_deg = glm::degrees(std::atan2(d.z, d.x));
+    if (o.longitude_deg < 0.0f) o.longitude_deg += 360.0f;
+    o.latitude_deg =
+        std::clamp(glm::degrees(std::asin(std::clamp(d.y / length, -1.0f, 1.0f))), -89.0f, 89.0f);
+  }
+  return o;
+}
+
+CameraPose Orbit::pose() const { return pose_on_sphere(centre, radius, longitude_deg, latitude_deg); }
+
+Orbit navigate(const Orbit& orbit, const NavigationInput& in, const NavigationSpeeds& speeds,
+               float seconds) {
+  Orbit next = orbit;
+  const float boost = in.fast ? 5.0f : 1.0f;
+  // Turning right moves the eye the way the walk turns it (increasing longitude), so the
+  // model seems to turn left under it.
+  next.longitude_deg =
+      std::fmod(orbit.longitude_deg + in.turn * speeds.turn_deg_per_s * boost * seconds, 360.0f);
+  if (next.longitude_deg < 0.0f) next.longitude_deg += 360.0f;
+  next.latitude_deg = std::clamp(
+      orbit.latitude_deg + in.look * speeds.look_deg_per_s * boost * seconds, -89.0f, 89.0f);
+  // Forward halves the radius in two seconds (at x1), back doubles it: the same feel at any size.
+  next.radius = orbit.radius * std::exp2(-0.5f * in.forward * boost * seconds);
   return next;
 }
 

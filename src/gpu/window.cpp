@@ -1,5 +1,7 @@
 #include "farfield/gpu/window.hpp"
 
+#include <algorithm>
+
 #include <epoxy/gl.h>
 #include <GLFW/glfw3.h>
 
@@ -62,6 +64,18 @@ bool Window::key_down(int key) const {
 }
 void Window::framebuffer_size(int& width, int& height) const {
   glfwGetFramebufferSize(window_, &width, &height);
+}
+bool Window::mouse_down(int button) const {
+  return glfwGetMouseButton(window_, button) == GLFW_PRESS;
+}
+glm::ivec2 Window::cursor_pixel() const {
+  double x = 0, y = 0;
+  glfwGetCursorPos(window_, &x, &y);
+  int window_w = 1, window_h = 1, w = 1, h = 1;
+  glfwGetWindowSize(window_, &window_w, &window_h);
+  glfwGetFramebufferSize(window_, &w, &h);
+  // Screen coordinates to framebuffer pixels (they differ on high-density displays).
+  return {int(x * w / std::max(window_w, 1)), int(y * h / std::max(window_h, 1))};
 }
 
 }  // namespace farfield::gpu

@@ -53,6 +53,16 @@ uint64_t Scene::texture_bytes() const {
   return bytes;
 }
 
+std::optional<uint32_t> object_of_triangle(const Scene& scene, uint64_t triangle) {
+  // Objects need not lie in index order: a scan (a click's worth of work).
+  for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+    const Object& o = scene.objects[i];
+    if (3 * triangle >= o.first_index && 3 * triangle < uint64_t(o.first_index) + o.index_count)
+      return i;
+  }
+  return std::nullopt;
+}
+
 float median_triangle_edge(const Scene& scene, uint64_t samples) {
   const uint64_t n = scene.triangle_count();
   if (n == 0 || samples == 0) return 0.0f;

@@ -3,6 +3,8 @@
 // tested without a window.
 #pragma once
 
+#include <glm/vec3.hpp>
+
 #include "farfield/core/view.hpp"
 
 namespace farfield {
@@ -26,5 +28,23 @@ struct NavigationSpeeds {
 // keeps pitch within +-89 degrees and yaw within [0, 360).
 CameraPose navigate(const CameraPose& pose, const NavigationInput& input,
                     const NavigationSpeeds& speeds, float seconds);
+
+// Orbit navigation (paper 003: a model seen from outside): the eye on a sphere about a centre,
+// looking at it, placed by pose_on_sphere as the viewpoints of ibr and hybrid and the frames of
+// `path --kind orbit` are. Turning moves along the longitude, looking along the latitude
+// (within +-89 degrees), forward and back change the radius (by a factor per second).
+struct Orbit {
+  glm::vec3 centre{0.0f};
+  float radius = 1.0f;
+  float longitude_deg = 0.0f;  // [0, 360), from +X towards +Z (View's yaw)
+  float latitude_deg = 0.0f;   // up from the horizontal plane
+
+  // The orbit through the pose's eye about `centre` (radius at least `min_radius`).
+  static Orbit through(const CameraPose& pose, const glm::vec3& centre, float min_radius);
+  CameraPose pose() const;
+};
+
+Orbit navigate(const Orbit& orbit, const NavigationInput& input, const NavigationSpeeds& speeds,
+               float seconds);
 
 }  // namespace farfield

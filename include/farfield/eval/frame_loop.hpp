@@ -43,6 +43,8 @@ class FrameLoop {
   // eye; `tinted`: coloured by representation from the eye too (Technique::tint).
   FrameTiming run(Technique& technique, const View& view, uint64_t frame, const FrameBudget& budget,
                   float birdseye_height = 0.0f, bool tinted = false);
+  // The last frame's selection (after run(); the viewer picks in it).
+  const DrawList& last_list() const { return list_; }
   // The raw bound: every triangle in one draw.
   FrameTiming run_raw(const View& view);
   // The last frame's selection seen from above, annotated and tinted (after run() of the same

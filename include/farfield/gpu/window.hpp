@@ -5,6 +5,8 @@
 #include <memory>
 #include <string>
 
+#include <glm/vec2.hpp>
+
 #include "farfield/core/result.hpp"
 #include "farfield/gpu/context.hpp"
 
@@ -24,6 +26,9 @@ class Window final : public Context {
   void poll_events();
   bool key_down(int glfw_key) const;
   void framebuffer_size(int& width, int& height) const;
+  bool mouse_down(int glfw_button) const;
+  // The cursor in framebuffer pixels from the top left.
+  glm::ivec2 cursor_pixel() const;
   GLFWwindow* handle() const { return window_; }
 
  private:

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -177,6 +178,9 @@ class SceneBuilder {
 // from at most `samples` triangles spread evenly over the index array. Techniques size their
 // smallest representations by it (a colour cube smaller than a triangle gains nothing).
 float median_triangle_edge(const Scene& scene, uint64_t samples = 1u << 20);
+
+// The object whose index range holds `triangle` (index / 3); none past the scene's.
+std::optional<uint32_t> object_of_triangle(const Scene& scene, uint64_t triangle);
 
 // XXH3-64 of the scene's arrays: a bake records it and refuses to serve another scene.
 uint64_t scene_fingerprint(const Scene& scene);
