@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs farfield's build and test dependencies from Debian's packages.
+# Installs farfield's build and test dependencies: Debian's packages, then the npm packages of
+# web/ (the glTF validator), pinned by web/package-lock.json.
 # Idempotent: installs only what is missing; does nothing when all is present.
 set -euo pipefail
 
@@ -15,19 +16,29 @@ packages=(
 )
 
 missing=()
+# Node.js and npm from Debian unless the machine has them already (from elsewhere).
+if ! command -v npm > /dev/null; then missing+=(nodejs npm); fi
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
     missing+=("$p")
   fi
 done
 
-if [ ${#missing[@]} -eq 0 ]; then
-  exit 0
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install-deps: installing ${missing[*]}"
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-echo "install-deps: installing ${missing[*]}"
-sudo=""
-if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# web/: installed again only when the lock file changed since the last install.
+web="$(dirname "$0")/../web"
+if [ ! -f "$web/node_modules/.package-lock.json" ] ||
+   [ "$web/package-lock.json" -nt "$web/node_modules/.package-lock.json" ]; then
+  echo "install-deps: npm ci in web/"
+  if ! (cd "$web" && npm ci --no-audit --no-fund --loglevel=error); then
+    echo "install-deps: npm ci in web/ failed; the tests that validate glTF files will skip" >&2
+  fi
+fi

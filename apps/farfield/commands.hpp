@@ -20,6 +20,7 @@ struct Command {
 
 void add_generate_commands(CLI::App& root, std::vector<Command>& commands);
 void add_import_command(CLI::App& root, std::vector<Command>& commands);
+void add_export_command(CLI::App& root, std::vector<Command>& commands);
 void add_info_command(CLI::App& root, std::vector<Command>& commands);
 void add_path_command(CLI::App& root, std::vector<Command>& commands);
 void add_bench_command(CLI::App& root, std::vector<Command>& commands);

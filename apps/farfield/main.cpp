@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
   std::vector<Command> commands;
   add_generate_commands(app, commands);
   add_import_command(app, commands);
+  add_export_command(app, commands);
   add_info_command(app, commands);
   add_path_command(app, commands);
   add_bake_command(app, commands);
