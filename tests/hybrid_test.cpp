@@ -141,6 +141,56 @@ TEST(HybridGL, AtAViewpointTheFrameIsBrutes) {
   }
 }
 
+// Sec. 3.2's finer frame: between viewpoints the eye sees triangles smaller than a pixel
+// that no viewpoint's frame at the walk's resolution saw; at three times it sees more of them,
+// so fewer pixels are missing. An even multiple is refused (its pixel centres miss the walk's).
+TEST(HybridGL, AFinerFrameMissesLessBetweenViewpoints) {
+  if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
+  Progress quiet(true);
+  auto scene = generate_tree(TreeOptions{}, quiet);
+  ASSERT_TRUE(scene);
+  test::TempDir dir;
+  View view;
+  view.width = 128;
+  view.height = 96;
+  view.near_m = near_plane_for(scene->bounds);
+  view.pose = pose_on_sphere(scene->bounds.center(), float(whole_view_distance(scene->bounds)),
+                             30.0f, 20.0f);
+  uint64_t missing[2] = {0, 0}, drawn[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    const char* scale = k == 0 ? "hybrid.scale=1" : "hybrid.scale=3";
+    const std::string pack = dir.file(std::to_string(k) + ".ffpack");
+    ASSERT_TRUE(run_bake(*scene, "hybrid", coarse({scale}), pack, quiet));
+    auto context = gpu::create_headless_context();
+    ASSERT_TRUE(context);
+    auto renderer = gpu::Renderer::create(*scene);
+    ASSERT_TRUE(renderer);
+    auto store = Store::open(pack, Store::Mode::kRead);
+    ASSERT_TRUE(store);
+    auto brute = make_technique("brute");
+    auto hybrid = make_technique("hybrid", coarse({scale}));
+    ASSERT_TRUE(brute && hybrid);
+    ASSERT_TRUE(test::load_technique(**brute, *scene, renderer->get()));
+    ASSERT_TRUE(test::load_technique(**hybrid, *scene, renderer->get(), &*store));
+    (*renderer)->set_offscreen(view.width, view.height);
+    DrawList list;
+    test::select_view(**brute, view, list);
+    (*renderer)->draw(view, list);
+    const Image reference = (*renderer)->capture();
+    test::select_view(**hybrid, view, list);
+    drawn[k] = list.triangle_count();
+    (*renderer)->draw(view, list);
+    missing[k] = compare_images(reference, (*renderer)->capture()).differing_pixels;
+  }
+  std::printf("between viewpoints: %llu pixels differ at scale 1 (%llu triangles), %llu at 3 "
+              "(%llu)\n", (unsigned long long)missing[0], (unsigned long long)drawn[0],
+              (unsigned long long)missing[1], (unsigned long long)drawn[1]);
+  EXPECT_GT(drawn[1], drawn[0]);
+  EXPECT_LT(missing[1], missing[0]);
+  EXPECT_GT(missing[0], 0u) << "nothing missing at the walk's resolution: the view is no test";
+  EXPECT_FALSE(make_technique("hybrid", test::settings_of({"hybrid.scale=2"})));
+}
+
 // Paper 003, Sec. 3: the hybrid frame is the scene's own geometry, so a new light lights it as
 // it lights brute's; and a pixel picks the triangle a CPU ray through it meets first.
 TEST(HybridGL, RelightsAndPicksAsTheScene) {

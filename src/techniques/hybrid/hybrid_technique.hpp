@@ -25,6 +25,7 @@ struct HybridOptions {
   float radius_m = 0.0f;  // 0: the orbit path's distance
   int width = 1024, height = 768;
   float hfov_deg = 90.0f;
+  int scale = 3;       // also found at this odd multiple of width x height (003, Sec. 3.2)
   bool zstd = false;   // the codec stored: zstd over the run lengths; else the paper's
   bool around = true;  // the union of the four viewpoints around the eye; else the nearest
 };
