@@ -54,7 +54,13 @@ struct View {
 Result<std::string> encode_glb(const Scene& scene, const GlbOptions& options,
                                GlbSummary* summary) {
   std::vector<uint32_t> chosen;
-  for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+  for (uint32_t i : options.object_list) {
+    if (i >= scene.objects.size())
+      return make_error("object ", std::to_string(i), " of a scene of ",
+                        counted(scene.objects.size(), "object"));
+    chosen.push_back(i);
+  }
+  for (uint32_t i = 0; i < scene.objects.size() && options.object_list.empty(); ++i) {
     const std::string name(scene.object_name(scene.objects[i]));
     if (options.objects.empty() || fnmatch(options.objects.c_str(), name.c_str(), 0) == 0)
       chosen.push_back(i);

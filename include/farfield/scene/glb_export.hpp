@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "farfield/core/result.hpp"
 #include "farfield/scene/scene.hpp"
@@ -17,6 +18,8 @@ namespace farfield {
 struct GlbOptions {
   // Objects whose names match this shell pattern (fnmatch: *, ?, [...]); empty: all.
   std::string objects;
+  // When not empty: these objects (indices into Scene::objects), in this order, instead.
+  std::vector<uint32_t> object_list;
 };
 
 struct GlbSummary {
