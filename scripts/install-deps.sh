@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs farfield's build and test dependencies: Debian's packages, then the npm packages of
-# web/ (the glTF validator), pinned by web/package-lock.json.
+# Installs farfield's build and test dependencies: Debian's packages (Chromium for the web
+# viewer's test), then the npm packages of web/ (the glTF validator, three.js,
+# 3d-tiles-renderer, playwright-core), pinned by web/package-lock.json.
 # Idempotent: installs only what is missing; does nothing when all is present.
 set -euo pipefail
 
@@ -13,6 +14,7 @@ packages=(
   python3-matplotlib xvfb xauth
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev
+  chromium
 )
 
 missing=()
