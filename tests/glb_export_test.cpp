@@ -156,15 +156,10 @@ TEST(GlbCli, PassesTheKhronosValidator) {
                            dir.file(std::string(name) + ".glb"))
                   .exit_status,
               0);
-  const std::string command = "node " + web + "/validate_glb.mjs " + dir.file("c.glb") + " " +
-                              dir.file("t.glb") + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string output;
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
-  const int status = pclose(pipe);
-  EXPECT_EQ(status, 0) << output;
+  const test::CommandResult r = test::run_shell("node " + web + "/validate_glb.mjs " +
+                                                 dir.file("c.glb") + " " + dir.file("t.glb"));
+  const std::string& output = r.output;
+  EXPECT_EQ(r.exit_status, 0) << output;
   EXPECT_NE(output.find("c.glb: 0 errors"), std::string::npos) << output;
   EXPECT_NE(output.find("t.glb: 0 errors"), std::string::npos) << output;
 }

@@ -127,10 +127,14 @@ Scene make_box_row(int boxes) {
 
 CommandResult run_farfield(const std::string& args, const std::string& cwd,
                            const std::string& wrapper) {
-  std::string command = wrapper + FARFIELD_EXE + " " + args + " 2>&1";
+  std::string command = wrapper + FARFIELD_EXE + " " + args;
   if (!cwd.empty()) command = "cd '" + cwd + "' && " + command;
+  return run_shell(command);
+}
+
+CommandResult run_shell(const std::string& command) {
   CommandResult result;
-  FILE* pipe = ::popen(command.c_str(), "r");
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
   if (!pipe) return result;
   std::array<char, 4096> buffer;
   size_t n;

@@ -54,6 +54,8 @@ struct CommandResult {
 // one is given, behind `wrapper` (e.g. "xvfb-run -a ") when one is given.
 CommandResult run_farfield(const std::string& args, const std::string& cwd = "",
                            const std::string& wrapper = "");
+// Runs `command` in the shell; its exit status and output (stdout and stderr together).
+CommandResult run_shell(const std::string& command);
 
 // Starts the farfield executable with `args` in a child process, its stderr sent to
 // /dev/null (for tests that kill it half-way); returns the child's pid.

@@ -159,14 +159,10 @@ TEST_F(TilesetCli, PassesTheSpecificationCheckAndTheGltfValidator) {
   auto r = test::run_farfield("export " + file("c.ffscene") + " --store " + file("c.ffpack") +
                               " --format 3dtiles -q --out " + file("checked"));
   ASSERT_EQ(r.exit_status, 0) << r.output;
-  const std::string command =
-      "node " + web + "/validate_tileset.mjs " + file("checked") + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string output;
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
-  EXPECT_EQ(pclose(pipe), 0) << output;
+  const test::CommandResult check =
+      test::run_shell("node " + web + "/validate_tileset.mjs " + file("checked"));
+  const std::string& output = check.output;
+  EXPECT_EQ(check.exit_status, 0) << output;
   EXPECT_NE(output.find(": 0 errors, 0 warnings"), std::string::npos) << output;
 }
 

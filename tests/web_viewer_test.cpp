@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -18,18 +17,6 @@
 
 namespace farfield {
 namespace {
-
-// `command` in the shell; its exit status and what it printed.
-test::CommandResult shell(const std::string& command) {
-  test::CommandResult r;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return r;
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) r.output.append(buffer, n);
-  const int status = pclose(pipe);
-  r.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
 
 TEST(WebViewer, ShowsATilesetAsFarfieldDrawsIt) {
   const std::string web = std::string(FARFIELD_SOURCE_DIR) + "/web";
@@ -79,7 +66,7 @@ TEST(WebViewer, ShowsATilesetAsFarfieldDrawsIt) {
   const std::string url = "http://localhost:" + port +
                           "/?tileset=data/tiles/tileset.json&path=data/o.json&frame=2"
                           "&width=1024&height=768&shot=1";
-  auto shot = shell("node " + web + "/snapshot.mjs '" + url + "' " + dir.file("web.png") +
+  auto shot = test::run_shell("node " + web + "/snapshot.mjs '" + url + "' " + dir.file("web.png") +
                     " --timeout 120");
   ASSERT_EQ(shot.exit_status, 0) << shot.output;
   auto browser = read_png(dir.file("web.png"));
