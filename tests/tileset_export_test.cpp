@@ -117,6 +117,44 @@ TEST_F(TilesetCli, ErrorsFallToExactLeavesHoldingEveryObjectOnce) {
   EXPECT_FALSE(read_tiles_package(file("c.ffscene"), "tileset.json"));
 }
 
+// paper 001's cluster representation: where the bake made boxes for the clusters, a cluster's
+// textured box is a tile above its mesh's, its error between the mesh's and its parent's.
+void find_boxes(const json& tile, double parent_error, const std::string& folder, int& boxes) {
+  const double error = tile["geometricError"];
+  if (tile.contains("content")) {
+    const auto names = glb_node_names(slurp(folder + "/" + tile["content"]["uri"].get<std::string>()));
+    if (names.size() == 1 && names[0].starts_with("box ")) {
+      ++boxes;
+      EXPECT_LE(error, parent_error);
+      ASSERT_EQ(tile["children"].size(), 1u);
+      EXPECT_LT(tile["children"][0]["geometricError"].get<double>(), error);
+    }
+  }
+  if (tile.contains("children"))
+    for (const json& child : tile["children"]) find_boxes(child, error, folder, boxes);
+}
+
+TEST_F(TilesetCli, ClusterBoxesStandAboveTheirMeshes) {
+  using test::run_farfield;
+  auto bake = run_farfield("bake -q " + file("c.ffscene") +
+                           " -t clusters --set clusters.boxes=all --out " + file("boxes.ffpack"));
+  ASSERT_EQ(bake.exit_status, 0) << bake.output;
+  auto r = run_farfield("export " + file("c.ffscene") + " --store " + file("boxes.ffpack") +
+                        " --format 3dtiles -q --out " + file("boxed"));
+  ASSERT_EQ(r.exit_status, 0) << r.output;
+  const json tileset = json::parse(slurp(file("boxed/tileset.json")));
+  int boxes = 0;
+  find_boxes(tileset["root"], tileset["geometricError"], file("boxed"), boxes);
+  EXPECT_GT(boxes, 0) << r.output;
+  EXPECT_NE(r.output.find(std::to_string(boxes) + " textured boxes"), std::string::npos)
+      << r.output;
+  Walk w;  // still every object once at the exact leaves
+  walk(tileset["root"], tileset["geometricError"], file("boxed"), w);
+  auto scene = read_scene(file("c.ffscene"));
+  ASSERT_TRUE(scene);
+  EXPECT_EQ(w.exact.size(), scene->objects.size());
+}
+
 TEST_F(TilesetCli, RefusesWhatItCannotExport) {
   using test::run_farfield;
   ASSERT_EQ(run_farfield("generate tree -q --out " + file("t.ffscene")).exit_status, 0);
@@ -156,8 +194,14 @@ TEST_F(TilesetCli, PassesTheSpecificationCheckAndTheGltfValidator) {
   if (!std::filesystem::exists(web + "/node_modules/gltf-validator") ||
       std::system("node --version > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "the glTF validator is not installed (make deps: npm ci in web/)";
-  auto r = test::run_farfield("export " + file("c.ffscene") + " --store " + file("c.ffpack") +
-                              " --format 3dtiles -q --out " + file("checked"));
+  // With the clusters' textured boxes, whose quads and cut-out textures are checked too.
+  auto bake = test::run_farfield("bake -q " + file("c.ffscene") +
+                                 " -t clusters --set clusters.boxes=all --out " +
+                                 file("checked.ffpack"));
+  ASSERT_EQ(bake.exit_status, 0) << bake.output;
+  auto r = test::run_farfield("export " + file("c.ffscene") + " --store " +
+                              file("checked.ffpack") + " --format 3dtiles -q --out " +
+                              file("checked"));
   ASSERT_EQ(r.exit_status, 0) << r.output;
   const test::CommandResult check =
       test::run_shell("node " + web + "/validate_tileset.mjs " + file("checked"));

@@ -57,13 +57,16 @@ int export_tiles(const Settings& s) {
                 " --technique clusters --out " + s.store + "' first");
   auto tree = load_cluster_tree(*store, *scene);
   if (!tree) return fail(tree.error().message);
+  auto boxes = load_box_set(*store, *scene, *tree);
+  if (!boxes) return fail(boxes.error().message);
   Progress progress(s.quiet);
-  auto written = write_tileset(*scene, *tree, s.out, progress);
+  auto written = write_tileset(*scene, *tree, *boxes, s.out, progress);
   if (!written) return fail(written.error().message);
-  std::printf("wrote %s: %s (%llu with content), %d levels, root error %.3g m, %.2f MB in "
-              "%.2f s\n",
+  std::printf("wrote %s: %s (%llu with content, %llu textured boxes), %d levels, root error "
+              "%.3g m, %.2f MB in %.2f s\n",
               s.out.c_str(), counted(written->tiles, "tile").c_str(),
-              (unsigned long long)written->contents, written->depth + 1, written->root_error_m,
+              (unsigned long long)written->contents, (unsigned long long)written->boxes,
+              written->depth + 1, written->root_error_m,
               double(written->bytes) / 1e6, seconds_since(start));
   return 0;
 }

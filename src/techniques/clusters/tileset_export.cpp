@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "farfield/core/image.hpp"
 #include "farfield/core/text.hpp"
 #include "farfield/scene/glb_export.hpp"
 #include "farfield/store/tiles_package.hpp"
@@ -62,6 +63,59 @@ Scene cluster_scene(const Scene& scene, const ClusterTree& tree, uint32_t node) 
   return out;
 }
 
+// A textured box (paper 001, Sec. 5.1) as a scene: its drawn sides as quads of one material
+// cut out by alpha, the sides cut from its atlas page into one texture of their own.
+Result<Scene> box_scene(const BoxSet& set, const BoxMeshes& meshes, uint32_t b) {
+  const TexturedBox& box = set.boxes[b];
+  int x0 = set.page_px, y0 = set.page_px, x1 = 0, y1 = 0;
+  for (const BoxSide& side : box.sides)
+    if (side.w > 0) {
+      x0 = std::min(x0, int(side.x));
+      y0 = std::min(y0, int(side.y));
+      x1 = std::max(x1, int(side.x + side.w));
+      y1 = std::max(y1, int(side.y + side.h));
+    }
+  RgbaImage crop(x1 - x0, y1 - y0);
+  const std::vector<uint8_t>& page = set.pages[box.page];
+  for (int y = 0; y < crop.height; ++y)
+    std::copy_n(page.data() + (size_t(y0 + y) * size_t(set.page_px) + size_t(x0)) * 4,
+                size_t(crop.width) * 4, crop.texel(0, y));
+  auto png = encode_png(crop);
+  if (!png) return png.error();
+  Scene out;
+  SceneBuilder builder(out);
+  const uint32_t texture = builder.add_texture(Texture{.name = "box " + std::to_string(b),
+                                                       .codec = TextureCodec::png,
+                                                       .width = uint32_t(crop.width),
+                                                       .height = uint32_t(crop.height),
+                                                       .has_alpha = true,
+                                                       .encoded = std::move(*png)});
+  const uint32_t material = builder.add_material(Material{.base_color = glm::vec4(1.0f),
+                                                          .texture = texture,
+                                                          .alpha_mode = AlphaMode::mask,
+                                                          .wrap_u = TextureWrap::clamp,
+                                                          .wrap_v = TextureWrap::clamp});
+  builder.begin_object("box " + std::to_string(b), ObjectKind::mesh, material);
+  const TexturedMesh& mesh = meshes.pages[box.page];
+  const float px = float(set.page_px);
+  for (uint32_t i = meshes.first_index[b]; i < meshes.first_index[b] + meshes.index_count[b];
+       i += 3) {
+    const TexturedVertex* v[3] = {&mesh.vertices[mesh.indices[i]],
+                                  &mesh.vertices[mesh.indices[i + 1]],
+                                  &mesh.vertices[mesh.indices[i + 2]]};
+    const glm::vec3 normal =
+        glm::normalize(glm::cross(v[1]->position - v[0]->position, v[2]->position - v[0]->position));
+    uint32_t corner[3];
+    for (int c = 0; c < 3; ++c)  // the page's texture coordinates, moved into the crop
+      corner[c] = builder.add_vertex(v[c]->position, normal, 0xffffffffu,
+                                     {(v[c]->uv.x * px - float(x0)) / float(crop.width),
+                                      (v[c]->uv.y * px - float(y0)) / float(crop.height)});
+    builder.add_triangle(corner[0], corner[1], corner[2]);
+  }
+  builder.end_object();
+  return out;
+}
+
 float deepest_error(const ClusterTree& tree) {
   float e = 0.0f;
   for (const ClusterNode& n : tree.nodes) e = std::max(e, n.error_m);
@@ -71,7 +125,9 @@ float deepest_error(const ClusterTree& tree) {
 }  // namespace
 
 Result<TilesetSummary> write_tileset(const Scene& scene, const ClusterTree& tree,
-                                     const std::string& out, Progress& progress) {
+                                     const BoxSet& boxes, const std::string& out,
+                                     Progress& progress) {
+  const BoxMeshes box_quads = box_meshes(boxes);
   if (tree.nodes.empty()) return make_error("the cluster hierarchy has no nodes");
   const bool package = out.ends_with(".3dtiles");
   namespace fs = std::filesystem;
@@ -116,11 +172,10 @@ Result<TilesetSummary> write_tileset(const Scene& scene, const ClusterTree& tree
   };
 
   progress.start("write tiles", tree.nodes.size());
-  std::function<Result<json>(uint32_t, float, int)> tile = [&](uint32_t index, float parent_error,
-                                                               int depth) -> Result<json> {
+  std::function<Result<json>(uint32_t, float)> tile = [&](uint32_t index,
+                                                          float parent_error) -> Result<json> {
     const ClusterNode& n = tree.nodes[index];
     ++summary.tiles;
-    summary.depth = std::max(summary.depth, depth);
     json t = {{"boundingVolume", tiles_box(n.bounds)}};
     const std::vector<uint32_t> own(tree.objects.begin() + n.objects_begin,
                                     tree.objects.begin() + n.own_end);
@@ -140,7 +195,7 @@ Result<TilesetSummary> write_tileset(const Scene& scene, const ClusterTree& tree
     }
     t["geometricError"] = error;
     for (uint32_t k = 0; k < n.child_count; ++k) {
-      auto child = tile(n.first_child + k, error, depth + 1);
+      auto child = tile(n.first_child + k, error);
       if (!child) return child.error();
       children.push_back(std::move(*child));
     }
@@ -151,20 +206,42 @@ Result<TilesetSummary> write_tileset(const Scene& scene, const ClusterTree& tree
       auto c = content(scene, {.object_list = own});
       if (!c) return c.error();
       ++summary.tiles;
-      summary.depth = std::max(summary.depth, depth + 1);
       children.push_back(
           {{"boundingVolume", tiles_box(bounds)}, {"geometricError", 0.0}, {"content", *c}});
     }
     if (!children.empty()) t["children"] = std::move(children);
     progress.advance();
+    // paper 001's cluster representation, the textured box, above the merged mesh where it
+    // is coarser than the mesh and no coarser than what is above it.
+    const uint32_t b = index < boxes.node_box.size() ? boxes.node_box[index] : BoxSet::kNone;
+    if (n.clustered() && b != BoxSet::kNone && boxes.boxes[b].side_count() > 0 &&
+        boxes.boxes[b].error_m > n.error_m && boxes.boxes[b].error_m <= parent_error) {
+      auto box = box_scene(boxes, box_quads, b);
+      if (!box) return box.error();
+      auto c = content(*box, {});
+      if (!c) return c.error();
+      ++summary.tiles;
+      ++summary.boxes;
+      return json{{"boundingVolume", tiles_box(boxes.boxes[b].bounds)},
+                  {"geometricError", boxes.boxes[b].error_m},
+                  {"content", *c},
+                  {"children", json::array({std::move(t)})}};
+    }
     return t;
   };
   // The root's error: its mesh's, or (no mesh there) the largest in the tree, so that it is
   // refined as soon as anything below would be.
   const ClusterNode& root_node = tree.nodes[0];
   const float root_error = root_node.clustered() ? root_node.error_m : deepest_error(tree);
-  auto root = tile(0, root_error, 0);
+  auto root = tile(0, root_error);
   if (!root) return root.error();
+  std::function<int(const json&)> depth_of = [&](const json& t) {
+    int deepest = 0;
+    if (t.contains("children"))
+      for (const json& child : t["children"]) deepest = std::max(deepest, 1 + depth_of(child));
+    return deepest;
+  };
+  summary.depth = depth_of(*root);
   (*root)["refine"] = "REPLACE";
   progress.finish();
   summary.root_error_m = (*root)["geometricError"].get<double>();
