@@ -321,7 +321,7 @@ int run_viewer(const ViewSettings& s) {
     for (size_t t = 0; t < techniques.size(); ++t) {
       const std::string label = std::to_string(t + 1) + " " + std::string(techniques[t]->name());
       if (ImGui::RadioButton(label.c_str(), selected == int(t))) selected = int(t);
-      if (t + 1 < techniques.size()) ImGui::SameLine();
+      if (t + 1 < techniques.size() && (t + 1) % 6 != 0) ImGui::SameLine();  // rows of six
     }
     current = size_t(selected);
     ImGui::Text("frame %.1f ms (%.0f fps)   selection %.2f ms", smoothed_ms, 1000.0 / smoothed_ms,
@@ -367,12 +367,12 @@ int run_viewer(const ViewSettings& s) {
       ImGui::Text("path %s: frame %zu of %zu (P: %s)", path.kind.c_str(), path_frame,
                   path.frames.size(), playing ? "pause" : "play");
     if (!notice.empty()) ImGui::TextWrapped("%s", notice.c_str());
-    ImGui::TextDisabled(
-        "%s  Shift fast  Tab/1-9 technique  B bird's-eye%s  C colour  G %s  O %s  click: pick",
-        orbiting ? "A/D round  R/F up/down  W/S nearer/farther"
-                 : "W/S move  A/D turn  E/Q up/down  R/F look",
-        birdseye ? " (on)" : "", walking ? "fly (walking now)" : "walk (flying now)",
-        orbiting ? "walk (orbiting now)" : "orbit");
+    ImGui::TextDisabled("%s  Shift fast  Tab/1-9 technique  click: pick",
+                        orbiting ? "A/D round  R/F up/down  W/S nearer/farther"
+                                 : "W/S move  A/D turn  E/Q up/down  R/F look");
+    ImGui::TextDisabled("B bird's-eye%s  C colour  G %s  O %s", birdseye ? " (on)" : "",
+                        walking ? "fly (walking now)" : "walk (flying now)",
+                        orbiting ? "walk (orbiting now)" : "orbit");
     ImGui::End();
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
