@@ -83,6 +83,15 @@ TEST(VisibleTrianglesGL, OpaqueSurfacesHideAndGlassDoesNot) {
   EXPECT_TRUE(misses(seen, face(scene, 0, {-1, 0, 0})));
 }
 
+// The frame of coarse()'s viewpoints (its width and height), with the scene's near plane.
+View coarse_view(const Scene& scene) {
+  View view;
+  view.width = 128;
+  view.height = 96;
+  view.near_m = near_plane_for(scene.bounds);
+  return view;
+}
+
 TechniqueSettings coarse(std::initializer_list<const char*> more = {}) {
   TechniqueSettings s = test::settings_of(
       {"hybrid.d_theta=90", "hybrid.d_phi=45", "hybrid.width=128", "hybrid.height=96"});
@@ -111,10 +120,7 @@ TEST(HybridGL, AtAViewpointTheFrameIsBrutes) {
     ASSERT_TRUE(store);
     const ViewSphere sphere = ViewSphere::with_steps(
         scene->bounds.center(), float(whole_view_distance(scene->bounds)), 90, 45);
-    View view;
-    view.width = 128;
-    view.height = 96;
-    view.near_m = near_plane_for(scene->bounds);
+    View view = coarse_view(*scene);
     auto brute = make_technique("brute");
     ASSERT_TRUE(brute);
     ASSERT_TRUE(test::load_technique(**brute, *scene, renderer->get()));
@@ -150,10 +156,7 @@ TEST(HybridGL, AFinerFrameMissesLessBetweenViewpoints) {
   auto scene = generate_tree(TreeOptions{}, quiet);
   ASSERT_TRUE(scene);
   test::TempDir dir;
-  View view;
-  view.width = 128;
-  view.height = 96;
-  view.near_m = near_plane_for(scene->bounds);
+  View view = coarse_view(*scene);
   view.pose = pose_on_sphere(scene->bounds.center(), float(whole_view_distance(scene->bounds)),
                              30.0f, 20.0f);
   uint64_t missing[2] = {0, 0}, drawn[2] = {0, 0};
@@ -209,10 +212,7 @@ TEST(HybridGL, RelightsAndPicksAsTheScene) {
   ASSERT_TRUE(store);
   const ViewSphere sphere = ViewSphere::with_steps(
       scene->bounds.center(), float(whole_view_distance(scene->bounds)), 90, 45);
-  View view;
-  view.width = 128;
-  view.height = 96;
-  view.near_m = near_plane_for(scene->bounds);
+  View view = coarse_view(*scene);
   view.pose = sphere.pose(9);
   auto brute = make_technique("brute");
   auto hybrid = make_technique("hybrid", coarse());

@@ -15,12 +15,17 @@ namespace farfield::cli {
 
 namespace {
 
+struct ExportSettings {
+  std::string scene, format = "glb", out, store;
+  GlbOptions glb;
+  bool quiet = false;
+};
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-template <class Settings>
-int export_glb(const Settings& s) {
+int export_glb(const ExportSettings& s) {
   if (!s.out.ends_with(".glb"))
     return usage_error("--out " + s.out + ": a .glb file for --format glb");
   if (!s.store.empty()) return usage_error("--store is for --format 3dtiles");
@@ -39,8 +44,7 @@ int export_glb(const Settings& s) {
   return 0;
 }
 
-template <class Settings>
-int export_tiles(const Settings& s) {
+int export_tiles(const ExportSettings& s) {
   if (s.store.empty())
     return usage_error("--format 3dtiles needs --store PACK, a pack with a clusters bake "
                        "('farfield bake SCENE --technique clusters --out PACK')");
@@ -74,12 +78,7 @@ int export_tiles(const Settings& s) {
 }  // namespace
 
 void add_export_command(CLI::App& root, std::vector<Command>& commands) {
-  struct Settings {
-    std::string scene, format = "glb", out, store;
-    GlbOptions glb;
-    bool quiet = false;
-  };
-  auto s = std::make_shared<Settings>();
+  auto s = std::make_shared<ExportSettings>();
   CLI::App* cmd = root.add_subcommand(
       "export",
       "Write a scene as glTF 2.0 binary (--format glb: one node a object, named as it, with "

@@ -24,32 +24,9 @@ const ViewpointBlobs kBlobs("hybrid", "sizes");  // "sizes" is written last
 constexpr size_t kCachedViews = 8;
 
 constexpr SettingSpec kSettings[] = {
-    {.key = "d_theta",
-     .type = SettingType::number,
-     .default_value = "5",
-     .help = "longitude between viewpoints (rounded to divide 360)",
-     .unit = "deg",
-     .symbol = "Delta theta (003, Sec. 2.1)",
-     .min = 0.5,
-     .max = 180,
-     .baked = true},
-    {.key = "d_phi",
-     .type = SettingType::number,
-     .default_value = "5",
-     .help = "latitude between viewpoints (rounded to divide 180)",
-     .unit = "deg",
-     .symbol = "Delta phi (003, Sec. 2.1)",
-     .min = 0.5,
-     .max = 180,
-     .baked = true},
-    {.key = "radius",
-     .type = SettingType::number,
-     .default_value = "",
-     .help = "the viewpoints' distance from the scene's centre; default: path --kind orbit's",
-     .unit = "m",
-     .min = 0,
-     .min_open = true,
-     .baked = true},
+    kDThetaSetting,
+    kDPhiSetting,
+    kRadiusSetting,
     {.key = "width",
      .type = SettingType::integer,
      .default_value = "1024",
@@ -147,9 +124,7 @@ const TechniqueDescriptor hybrid_descriptor{
     .make = [](const SettingValues& v,
                const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       HybridOptions o;
-      o.d_theta_deg = float(v.number("d_theta"));
-      o.d_phi_deg = float(v.number("d_phi"));
-      o.radius_m = float(v.number_or("radius", 0.0));
+      o.sphere = SphereSettings::from(v);
       o.width = v.integer("width");
       o.height = v.integer("height");
       o.hfov_deg = float(v.number("hfov"));
@@ -205,10 +180,7 @@ Result<void> HybridTechnique::bake(const BakeContext& context) {
   Store& store = context.store;
   if (scene.triangle_count() > UINT32_MAX)
     return make_error("hybrid: a scene of more than 2^32 triangles");
-  const float radius = options_.radius_m > 0 ? options_.radius_m
-                                             : float(whole_view_distance(scene.bounds));
-  sphere_ = ViewSphere::with_steps(scene.bounds.center(), radius, options_.d_theta_deg,
-                                   options_.d_phi_deg);
+  sphere_ = options_.sphere.sphere_for(scene);
   const uint32_t triangles = uint32_t(scene.triangle_count());
   if (auto ok = kBlobs.start(store, params_text(sphere_, options_, triangles), sphere_.count());
       !ok)

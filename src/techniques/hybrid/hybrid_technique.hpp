@@ -13,6 +13,7 @@
 
 #include "farfield/core/codec.hpp"
 #include "farfield/core/view_sphere.hpp"
+#include "farfield/techniques/sphere_settings.hpp"
 #include "farfield/techniques/object_set.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
 
@@ -21,8 +22,7 @@ namespace farfield {
 extern const TechniqueDescriptor hybrid_descriptor;
 
 struct HybridOptions {
-  float d_theta_deg = 5.0f, d_phi_deg = 5.0f;
-  float radius_m = 0.0f;  // 0: the orbit path's distance
+  SphereSettings sphere;
   int width = 1024, height = 768;
   float hfov_deg = 90.0f;
   int scale = 3;       // also found at this odd multiple of width x height (003, Sec. 3.2)

@@ -23,33 +23,9 @@ namespace {
 const ViewpointBlobs kBlobs("ibr", "full");  // "full" is written last
 
 constexpr SettingSpec kSettings[] = {
-    {.key = "d_theta",
-     .type = SettingType::number,
-     .default_value = "5",
-     .help = "longitude between viewpoints (rounded to divide 360)",
-     .unit = "deg",
-     .symbol = "Delta theta (003, Sec. 2.1)",
-     .min = 0.5,
-     .max = 180,
-     .baked = true},
-    {.key = "d_phi",
-     .type = SettingType::number,
-     .default_value = "5",
-     .help = "latitude between viewpoints (rounded to divide 180)",
-     .unit = "deg",
-     .symbol = "Delta phi (003, Sec. 2.1)",
-     .min = 0.5,
-     .max = 180,
-     .baked = true},
-    {.key = "radius",
-     .type = SettingType::number,
-     .default_value = "",
-     .help = "the viewpoints' distance from the scene's centre; default: path --kind orbit's "
-             "(the scene's bounding sphere fills the height of a 90-degree 4:3 view)",
-     .unit = "m",
-     .min = 0,
-     .min_open = true,
-     .baked = true},
+    kDThetaSetting,
+    kDPhiSetting,
+    kRadiusSetting,
     {.key = "fov",
      .type = SettingType::number,
      .default_value = "",
@@ -128,9 +104,8 @@ std::string level_blob(uint32_t view, int level) {
 
 // The sphere and field of view of the options for `scene`, or why there are none.
 Result<ViewSphere> sphere_for(const Scene& scene, const IbrOptions& o, float& fov_deg) {
-  const glm::vec3 centre = scene.bounds.center();
   const double r = std::max(0.5 * double(glm::length(scene.bounds.size())), 1e-3);
-  const double radius = o.radius_m > 0 ? double(o.radius_m) : whole_view_distance(scene.bounds);
+  const double radius = o.sphere.radius_for(scene);
   if (o.fov_deg > 0) {
     fov_deg = o.fov_deg;
   } else {
@@ -144,7 +119,7 @@ Result<ViewSphere> sphere_for(const Scene& scene, const IbrOptions& o, float& fo
   if (o.resolution % (1 << (o.levels - 1)) != 0)
     return make_error(formatted("ibr: a resolution of %d px does not halve %d times (levels %d)",
                                 o.resolution, o.levels - 1, o.levels));
-  return ViewSphere::with_steps(centre, float(radius), o.d_theta_deg, o.d_phi_deg);
+  return o.sphere.sphere_for(scene);
 }
 
 std::string params_text(const ViewSphere& s, float fov_deg, const IbrOptions& o) {
@@ -184,9 +159,7 @@ const TechniqueDescriptor ibr_descriptor{
     .make = [](const SettingValues& v,
                const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       IbrOptions o;
-      o.d_theta_deg = float(v.number("d_theta"));
-      o.d_phi_deg = float(v.number("d_phi"));
-      o.radius_m = float(v.number_or("radius", 0.0));
+      o.sphere = SphereSettings::from(v);
       o.fov_deg = float(v.number_or("fov", 0.0));
       o.resolution = v.integer("resolution");
       o.levels = v.integer("levels");

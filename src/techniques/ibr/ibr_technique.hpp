@@ -18,6 +18,7 @@
 #include "farfield/core/codec.hpp"
 #include "farfield/core/image_pyramid.hpp"
 #include "farfield/core/view_sphere.hpp"
+#include "farfield/techniques/sphere_settings.hpp"
 #include "farfield/techniques/object_set.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
 
@@ -26,8 +27,7 @@ namespace farfield {
 extern const TechniqueDescriptor ibr_descriptor;
 
 struct IbrOptions {
-  float d_theta_deg = 5.0f, d_phi_deg = 5.0f;
-  float radius_m = 0.0f;  // 0: the orbit path's distance (scene/path_generator.hpp)
+  SphereSettings sphere;
   float fov_deg = 0.0f;   // 0: the model's bounding sphere seen from the radius, 5% around
   int resolution = 512;   // W
   int levels = 3;
