@@ -242,10 +242,10 @@ TEST(SceneFile, StructureIsCheckedBehindTheChecksums) {
   ASSERT_TRUE(write_scene(test::make_box_row(2), dir.file("full.ffscene")));
   std::string bytes = test::read_file(dir.file("full.ffscene"));
   // The section table starts at byte 64, 48 bytes an entry: {tag[16], offset, bytes,
-  // checksum, element size, flags}; the indices are the fourth section.
+  // checksum, element size, flags}; the indices are the second section.
   uint64_t index_offset;
-  std::memcpy(&index_offset, bytes.data() + 64 + 3 * 48 + 16, sizeof(index_offset));
-  ASSERT_EQ(std::string(bytes.data() + 64 + 3 * 48), "indices");
+  std::memcpy(&index_offset, bytes.data() + 64 + 1 * 48 + 16, sizeof(index_offset));
+  ASSERT_EQ(std::string(bytes.data() + 64 + 1 * 48), "indices");
   const uint32_t far_away = 1000;
   std::memcpy(bytes.data() + index_offset, &far_away, sizeof(far_away));
   const auto span = std::as_bytes(std::span(bytes.data(), bytes.size()));

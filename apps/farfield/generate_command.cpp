@@ -4,6 +4,7 @@
 
 #include "commands.hpp"
 #include "farfield/scene/building_generator.hpp"
+#include "farfield/scene/chunked_scene.hpp"
 #include "farfield/scene/city_generator.hpp"
 #include "farfield/scene/field_generator.hpp"
 #include "farfield/scene/import.hpp"
@@ -15,15 +16,17 @@ namespace farfield::cli {
 
 namespace {
 
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 int write_and_report(const Scene& scene, const std::string& out,
                      std::chrono::steady_clock::time_point start) {
   if (auto ok = write_scene(scene, out); !ok) return fail(ok.error().message);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("wrote %s: %s, %s, %.1f x %.1f m, in %.2f s\n", out.c_str(),
               counted(scene.triangle_count(), "triangle").c_str(),
               counted(scene.objects.size(), "object").c_str(), scene.bounds.size().x,
-              scene.bounds.size().z, seconds);
+              scene.bounds.size().z, seconds_since(start));
   return 0;
 }
 
@@ -83,10 +86,20 @@ void add_city(CLI::App& generate, std::vector<Command>& commands) {
                         if (s->blocks_option->count())
                           s->city.blocks_x = s->city.blocks_z = s->blocks;
                         Progress progress(s->quiet);
-                        auto scene = generate_city(s->city, progress);
+                        // Written a block at a time: a city larger than memory is written too.
+                        auto written = write_city(s->city, s->out, progress);
                         progress.finish();
+                        if (!written) return fail(written.error().message);
+                        auto scene = ChunkedScene::open(s->out);
                         if (!scene) return fail(scene.error().message);
-                        return write_and_report(*scene, s->out, start);
+                        const Scene& index = scene->index();
+                        std::printf("wrote %s: %s, %s, %.1f x %.1f m, in %.2f s\n",
+                                    s->out.c_str(),
+                                    counted(scene->triangle_count(), "triangle").c_str(),
+                                    counted(index.objects.size(), "object").c_str(),
+                                    index.bounds.size().x, index.bounds.size().z,
+                                    seconds_since(start));
+                        return 0;
                       }});
 }
 

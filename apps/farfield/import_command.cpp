@@ -21,8 +21,9 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
       "import",
       "Import model files (OBJ, PLY, OFF, glTF/GLB, STL, DAE, 3DS, IFC, ... through "
       "assimp) into one .ffscene; node transforms applied, names, colours and base-colour "
-      "textures kept");
-  cmd->add_option("files", s->files, "Model files")->required();
+      "textures kept. A .ffscene given alone is rewritten in this build's format (with chunks, "
+      "so that it can be read in parts)");
+  cmd->add_option("files", s->files, "Model files, or one .ffscene to rewrite")->required();
   cmd->add_option("--out,-o", s->out, "Output .ffscene file")->required();
   cmd->add_option("--up", s->up,
                   "The axis that points up in the files: y (glTF, OBJ, most) or z "
@@ -42,6 +43,24 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
   commands.push_back(
       {cmd, [s] {
          const auto start = std::chrono::steady_clock::now();
+         for (const std::string& file : s->files)
+           if (is_scene_file(file) && s->files.size() > 1)
+             return usage_error(file + ": a .ffscene is rewritten alone, not merged with others");
+         if (s->files.size() == 1 && is_scene_file(s->files[0])) {
+           if (s->options.scale != 1.0 || s->up != "y")
+             return usage_error(s->files[0] +
+                                ": a .ffscene is rewritten as it is (--scale and --up are "
+                                "for model files)");
+           auto scene = read_scene(s->files[0]);
+           if (!scene) return fail(scene.error().message);
+           if (auto ok = write_scene(*scene, s->out); !ok) return fail(ok.error().message);
+           std::printf("rewrote %s as %s: %s, %s in %.2f s\n", s->files[0].c_str(),
+                       s->out.c_str(), counted(scene->triangle_count(), "triangle").c_str(),
+                       counted(scene->objects.size(), "object").c_str(),
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+                           .count());
+           return 0;
+         }
          Progress progress(s->quiet);
          s->options.up = s->up[0];
          ImportReport report;

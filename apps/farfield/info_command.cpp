@@ -79,6 +79,19 @@ void add_info_command(CLI::App& root, std::vector<Command>& commands) {
          if (!is_scene_file(*path) && (path->ends_with(".ffpack") || is_sqlite_file(*path)))
            return describe_pack(*path);
          const auto start = std::chrono::steady_clock::now();
+         // A file with chunks is described without reading its geometry (a few chunks are read
+         // for its detail); older ones are read whole.
+         if (auto chunked = ChunkedScene::open(*path); chunked) {
+           const double seconds =
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+           auto detail = sampled_triangle_edge(*chunked);
+           if (!detail) return fail(detail.error().message);
+           std::fputs(summarize_scene({chunked->index(), *path, chunked->file(), seconds,
+                                       &*chunked, *detail})
+                          .c_str(),
+                      stdout);
+           return 0;
+         }
          SceneFileInfo file;
          auto scene = read_scene(*path, &file);
          if (!scene) return fail(scene.error().message);

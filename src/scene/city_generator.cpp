@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <glm/geometric.hpp>
 #include <string>
 #include <vector>
 
 #include "farfield/core/text.hpp"
 #include "farfield/core/assert.hpp"
+#include "farfield/scene/scene_file_writer.hpp"
 #include "city_textures.hpp"
 #include "mesh_primitives.hpp"
 #include "random.hpp"
@@ -581,11 +583,18 @@ Result<void> validate_city_options(const CityOptions& o) {
   return {};
 }
 
-Result<Scene> generate_city(const CityOptions& options, Progress& progress) {
-  if (auto ok = validate_city_options(options); !ok) return ok.error();
+namespace {
 
-  // Pass 1: size the city block by block in a scratch scene, which picks the grid for
-  // --target-triangles, refuses a city too large for a scene and lets pass 2 allocate once.
+// The grid and what it holds, from pass 1.
+struct CityPlan {
+  uint32_t nx = 0, nz = 0;
+  Counts total;
+};
+
+// Pass 1: sizes the city block by block in a scratch scene, which picks the grid for
+// --target-triangles, refuses a city too large for a scene and lets pass 2 allocate once.
+Result<CityPlan> plan_city(const CityOptions& options, Progress& progress) {
+  if (auto ok = validate_city_options(options); !ok) return ok.error();
   Scene scratch;
   auto size = [&](auto&& write) {
     scratch.objects.clear(), scratch.vertices.clear(), scratch.indices.clear();
@@ -603,15 +612,15 @@ Result<Scene> generate_city(const CityOptions& options, Progress& progress) {
     return size([&](CityWriter& w) { w.streets(nx, nz); });
   };
 
-  uint32_t nx = options.blocks_x, nz = options.blocks_z;
-  Counts total;
+  CityPlan plan{options.blocks_x, options.blocks_z, {}};
+  Counts& total = plan.total;
   if (options.target_triangles == 0) {
-    const uint64_t least = uint64_t(nx) * nz * kLeastBlockTriangles;
+    const uint64_t least = uint64_t(plan.nx) * plan.nz * kLeastBlockTriangles;
     if (least * 3 > UINT32_MAX) return too_large(Counts{0, least, least, 0});
-    progress.start("size city", uint64_t(nx) * nz);
-    total = size_streets(nx, nz);
-    for (uint32_t bz = 0; bz < nz && total.fits(); ++bz) {
-      for (uint32_t bx = 0; bx < nx && total.fits(); ++bx) {
+    progress.start("size city", uint64_t(plan.nx) * plan.nz);
+    total = size_streets(plan.nx, plan.nz);
+    for (uint32_t bz = 0; bz < plan.nz && total.fits(); ++bz) {
+      for (uint32_t bx = 0; bx < plan.nx && total.fits(); ++bx) {
         total += size_block(bx, bz);
         progress.advance();
       }
@@ -629,15 +638,41 @@ Result<Scene> generate_city(const CityOptions& options, Progress& progress) {
       total += size_streets(n, n);
       progress.advance(std::min(total.triangles, options.target_triangles) - before);
       if (total.triangles >= options.target_triangles || !total.fits()) {
-        nx = nz = n;
+        plan.nx = plan.nz = n;
         break;
       }
     }
   }
   if (!total.fits()) return too_large(total);
-  scratch = Scene{};
-  // Held whole in memory until it is written (out-of-core generation is to come): refuse
-  // what this machine cannot hold rather than fail after the work.
+  return plan;
+}
+
+// Pass 2: the streets, then the blocks row by row, into `scene`; `part_done` is called after
+// the streets and after each block.
+Result<void> emit_city(const CityOptions& options, const CityPlan& plan, Scene& scene,
+                       Progress& progress, const std::function<Result<void>()>& part_done) {
+  CityWriter writer(scene, options, true);
+  progress.start("generate city", uint64_t(plan.nx) * plan.nz);
+  writer.streets(plan.nx, plan.nz);
+  if (auto ok = part_done(); !ok) return ok;
+  for (uint32_t bz = 0; bz < plan.nz; ++bz) {
+    for (uint32_t bx = 0; bx < plan.nx; ++bx) {
+      writer.block(bx, bz);
+      if (auto ok = part_done(); !ok) return ok;
+      progress.advance();
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<Scene> generate_city(const CityOptions& options, Progress& progress) {
+  auto plan = plan_city(options, progress);
+  if (!plan) return plan.error();
+  const Counts& total = plan->total;
+  // Held whole in memory: refuse what this machine cannot hold rather than fail after the work
+  // (write_city writes a city of any size without holding it).
   const uint64_t bytes = total.objects * sizeof(Object) + total.vertices * sizeof(Vertex) +
                          total.triangles * 3 * sizeof(uint32_t) + total.name_bytes;
   const uint64_t memory = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE));
@@ -646,26 +681,36 @@ Result<Scene> generate_city(const CityOptions& options, Progress& progress) {
                       " triangles and need ", number_text(double(bytes) / 1e9),
                       " GB of memory, more than this machine's ", number_text(double(memory) / 1e9),
                       " GB; use fewer --blocks-x/--blocks-z or a lower --target-triangles");
-
-  // Pass 2: write it.
   Scene scene;
   scene.objects.reserve(total.objects);
   scene.vertices.reserve(total.vertices);
   scene.indices.reserve(total.triangles * 3);
   scene.names.reserve(total.name_bytes);
-  CityWriter writer(scene, options, true);
-  progress.start("generate city", uint64_t(nx) * nz);
-  writer.streets(nx, nz);
-  for (uint32_t bz = 0; bz < nz; ++bz) {
-    for (uint32_t bx = 0; bx < nx; ++bx) {
-      writer.block(bx, bz);
-      progress.advance();
-    }
-  }
+  if (auto ok = emit_city(options, *plan, scene, progress, [] { return Result<void>{}; }); !ok)
+    return ok.error();
   FF_ASSERT(scene.triangle_count() == total.triangles && scene.vertices.size() == total.vertices,
             "sized %llu triangles, wrote %llu", (unsigned long long)total.triangles,
             (unsigned long long)scene.triangle_count());
   return scene;
+}
+
+Result<SceneFileInfo> write_city(const CityOptions& options, const std::string& path,
+                                 Progress& progress) {
+  auto plan = plan_city(options, progress);
+  if (!plan) return plan.error();
+  auto writer = SceneFileWriter::create(path, {plan->total.vertices, plan->total.triangles * 3});
+  if (!writer) return writer.error();
+  // A block at a time: what it made goes to the file, and the scene keeps only its materials,
+  // textures and bounds.
+  Scene scene;
+  auto ok = emit_city(options, *plan, scene, progress, [&]() -> Result<void> {
+    if (auto appended = writer->append(scene); !appended) return appended;
+    scene.objects.clear(), scene.vertices.clear(), scene.indices.clear();
+    scene.names.clear(), scene.uvs.clear();
+    return {};
+  });
+  if (!ok) return ok.error();
+  return writer->finish(scene);
 }
 
 }  // namespace farfield

@@ -63,19 +63,24 @@ std::optional<uint32_t> object_of_triangle(const Scene& scene, uint64_t triangle
   return std::nullopt;
 }
 
-float median_triangle_edge(const Scene& scene, uint64_t samples) {
-  const uint64_t n = scene.triangle_count();
+float median_triangle_edge(std::span<const Vertex> vertices, std::span<const uint32_t> indices,
+                           uint64_t samples) {
+  const uint64_t n = indices.size() / 3;
   if (n == 0 || samples == 0) return 0.0f;
   const uint64_t count = std::min(n, samples);
   std::vector<float> edges(count);
   for (uint64_t i = 0; i < count; ++i) {
-    const uint32_t* t = scene.indices.data() + (i * n / count) * 3;
-    const glm::vec3 a = scene.vertices[t[0]].position, b = scene.vertices[t[1]].position,
-                    c = scene.vertices[t[2]].position;
+    const uint32_t* t = indices.data() + (i * n / count) * 3;
+    const glm::vec3 a = vertices[t[0]].position, b = vertices[t[1]].position,
+                    c = vertices[t[2]].position;
     edges[i] = std::max({glm::distance(a, b), glm::distance(b, c), glm::distance(c, a)});
   }
   std::nth_element(edges.begin(), edges.begin() + count / 2, edges.end());
   return edges[count / 2];
+}
+
+float median_triangle_edge(const Scene& scene, uint64_t samples) {
+  return median_triangle_edge(scene.vertices, scene.indices, samples);
 }
 
 namespace {
@@ -192,23 +197,37 @@ void SceneBuilder::end_object() {
 }
 
 uint64_t scene_fingerprint(const Scene& s) {
+  return scene_fingerprint(s, s.uvs.size(), [&](GeometryArray array, const ByteSink& feed) {
+    switch (array) {
+      case GeometryArray::vertices: return feed(std::as_bytes(std::span(s.vertices)));
+      case GeometryArray::indices: return feed(std::as_bytes(std::span(s.indices)));
+      case GeometryArray::uvs: return feed(std::as_bytes(std::span(s.uvs)));
+    }
+  });
+}
+
+uint64_t scene_fingerprint(const Scene& s, uint64_t uv_count,
+                           const std::function<void(GeometryArray, const ByteSink&)>& geometry) {
   XXH3_state_t* state = XXH3_createState();
   XXH3_64bits_reset(state);
+  const ByteSink feed = [&](std::span<const std::byte> bytes) {
+    XXH3_64bits_update(state, bytes.data(), bytes.size());
+  };
   XXH3_64bits_update(state, s.objects.data(), s.objects.size() * sizeof(Object));
   // Base colours alone, then the rest only where a scene has textures or another material
   // field than the colour: such a scene keeps the fingerprint it had before materials grew,
   // and so its bakes.
-  bool extended = !s.textures.empty() || !s.uvs.empty();
+  bool extended = !s.textures.empty() || uv_count > 0;
   for (const Material& m : s.materials) {
     XXH3_64bits_update(state, &m.base_color, 16);
     extended = extended || !(m == Material{.base_color = m.base_color});
   }
-  XXH3_64bits_update(state, s.vertices.data(), s.vertices.size() * sizeof(Vertex));
-  XXH3_64bits_update(state, s.indices.data(), s.indices.size() * sizeof(uint32_t));
+  geometry(GeometryArray::vertices, feed);
+  geometry(GeometryArray::indices, feed);
   XXH3_64bits_update(state, s.names.data(), s.names.size());
   if (extended) {
     XXH3_64bits_update(state, s.materials.data(), s.materials.size() * sizeof(Material));
-    XXH3_64bits_update(state, s.uvs.data(), s.uvs.size() * sizeof(glm::vec2));
+    if (uv_count > 0) geometry(GeometryArray::uvs, feed);
     for (const Texture& t : s.textures) {
       XXH3_64bits_update(state, t.encoded.data(), t.encoded.size());
       const uint32_t header[3] = {t.width, t.height, uint32_t(t.codec)};
@@ -228,29 +247,34 @@ uint64_t scene_fingerprint(const Scene& s) {
 }
 
 std::string validate_scene(const Scene& s) {
+  if (std::string problem =
+          validate_scene_index(s, s.vertices.size(), s.indices.size(), s.uvs.size());
+      !problem.empty())
+    return problem;
+  return validate_geometry(s, 0, uint32_t(s.objects.size()),
+                           {.vertices = s.vertices, .indices = s.indices, .uvs = s.uvs});
+}
+
+std::string validate_scene_index(const Scene& s, uint64_t vertex_count, uint64_t index_count,
+                                 uint64_t uv_count) {
   auto fail = [](size_t object, const char* what) {
     return "object " + std::to_string(object) + ": " + what;
   };
-  if (s.indices.size() % 3 != 0) return "index count is not a multiple of 3";
+  if (index_count % 3 != 0) return "index count is not a multiple of 3";
   for (size_t i = 0; i < s.objects.size(); ++i) {
     const Object& o = s.objects[i];
     if (uint64_t(o.name_offset) + o.name_size > s.names.size()) return fail(i, "name out of range");
     if (static_cast<uint8_t>(o.kind) >= static_cast<uint8_t>(ObjectKind::count_))
       return fail(i, "unknown kind");
     if (o.material >= s.materials.size()) return fail(i, "material out of range");
-    if (s.materials[o.material].textured() && uint64_t(o.first_uv) + o.vertex_count > s.uvs.size())
+    if (s.materials[o.material].textured() && uint64_t(o.first_uv) + o.vertex_count > uv_count)
       return fail(i, "texture coordinates out of range");
     if (o.first_index % 3 != 0 || o.index_count % 3 != 0)
       return fail(i, "index range not made of whole triangles");
-    if (uint64_t(o.first_index) + o.index_count > s.indices.size())
+    if (uint64_t(o.first_index) + o.index_count > index_count)
       return fail(i, "index range out of range");
-    if (uint64_t(o.first_vertex) + o.vertex_count > s.vertices.size())
+    if (uint64_t(o.first_vertex) + o.vertex_count > vertex_count)
       return fail(i, "vertex range out of range");
-    const uint32_t* idx = s.indices.data() + o.first_index;
-    for (uint32_t k = 0; k < o.index_count; ++k) {
-      if (idx[k] - o.first_vertex >= o.vertex_count)  // unsigned: also catches idx < first
-        return fail(i, "index outside the object's vertex range");
-    }
   }
   for (size_t i = 0; i < s.materials.size(); ++i) {
     const Material& m = s.materials[i];
@@ -272,17 +296,34 @@ std::string validate_scene(const Scene& s) {
     if (uint8_t(t.codec) >= uint8_t(TextureCodec::count_)) return at + "unknown codec";
     if (t.width == 0 || t.height == 0 || t.encoded.empty()) return at + "empty image";
   }
-  for (const glm::vec2& uv : s.uvs)
-    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return "a texture coordinate is not finite";
-  for (uint32_t index : s.indices) {
-    if (index >= s.vertices.size()) return "an index is out of the vertex range";
+  return validate_cells(s);
+}
+
+std::string validate_geometry(const Scene& s, uint32_t first_object, uint32_t object_count,
+                              const GeometrySpan& g) {
+  const uint64_t vertex_end = g.vertex_base + g.vertices.size();
+  for (uint32_t i = first_object; i < first_object + object_count; ++i) {
+    const Object& o = s.objects[i];
+    FF_ASSERT(o.first_index >= g.index_base && o.first_index + o.index_count <=
+                                                  g.index_base + g.indices.size(),
+              "object %u's indices lie outside the span given", i);
+    const uint32_t* idx = g.indices.data() + (o.first_index - g.index_base);
+    for (uint32_t k = 0; k < o.index_count; ++k) {
+      if (idx[k] - o.first_vertex >= o.vertex_count)  // unsigned: also catches idx < first
+        return "object " + std::to_string(i) + ": index outside the object's vertex range";
+    }
   }
-  for (const Vertex& v : s.vertices) {
+  for (const glm::vec2& uv : g.uvs)
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return "a texture coordinate is not finite";
+  for (uint32_t index : g.indices) {
+    if (index < g.vertex_base || index >= vertex_end) return "an index is out of the vertex range";
+  }
+  for (const Vertex& v : g.vertices) {
     if (!std::isfinite(v.position.x) || !std::isfinite(v.position.y) ||
         !std::isfinite(v.position.z))
       return "a vertex position is not finite";
   }
-  return validate_cells(s);
+  return {};
 }
 
 }  // namespace farfield

@@ -16,24 +16,16 @@
 
 #include "farfield/core/atomic_file.hpp"
 #include "farfield/core/file_reading.hpp"
+#include "farfield/scene/scene_file_writer.hpp"
+#include "scene_file_layout.hpp"
 
 namespace farfield {
 
 static_assert(std::endian::native == std::endian::little, "the .ffscene layout is little-endian");
 
+using namespace scene_file;
+
 namespace {
-
-constexpr char kMagic[8] = {'F', 'F', 'S', 'C', 'E', 'N', 'E', '\0'};
-constexpr uint64_t kAlignment = 64;
-// Sections are read into arrays of at most this many bytes (a bound before allocating).
-constexpr uint64_t kMaxSectionBytes = uint64_t(1) << 40;
-
-uint64_t align_up(uint64_t v) {
-  return (v + kAlignment - 1) / kAlignment * kAlignment;
-}
-
-// Reads `size` bytes at `offset`: from a file, or from bytes held in memory.
-using ReadAt = std::function<Result<void>(void* data, uint64_t size, uint64_t offset)>;
 
 // What a file that is not a .ffscene seems to be, from its first bytes, for the refusal.
 std::string seems_to_be(const char* head, uint64_t file_size) {
@@ -47,288 +39,54 @@ std::string seems_to_be(const char* head, uint64_t file_size) {
   return "it does not start with the .ffscene magic";
 }
 
-Error truncated(const std::string& name, uint64_t have, uint64_t want) {
-  return make_error(name, ": truncated .ffscene file (", std::to_string(have), " of ",
-                    std::to_string(want), " bytes)");
-}
-
-Error corrupted(const std::string& name, const std::string& what) {
-  return make_error(name, ": corrupted .ffscene file (", what, ")");
-}
-
-// ---- Versions 2 and 3: a header, a table of tagged sections, the sections (3 adds cells)
-// ------------------------
-
-struct HeaderV2 {
-  char magic[8];
-  uint32_t version;
-  uint32_t header_size;  // 64
-  float bounds_min[3];
-  float bounds_max[3];
-  uint32_t section_count;
-  uint32_t reserved;
-  uint64_t file_size;
-  uint64_t header_checksum;  // XXH3-64 of the bytes above and of the section table
-};
-static_assert(sizeof(HeaderV2) == 64);
-
-constexpr uint32_t kRequired = 1;  // a reader that does not know the section must refuse
-
-struct SectionEntryV2 {
-  char tag[16];  // the section's name, zero-padded
-  uint64_t offset;
-  uint64_t bytes;
-  uint64_t checksum;      // XXH3-64 of the section's bytes
-  uint32_t element_size;  // bytes per element (1 for byte strings)
-  uint32_t flags;         // kRequired
-};
-static_assert(sizeof(SectionEntryV2) == 48);
-constexpr uint32_t kMaxSections = 64;
-
-// A texture's entry in the "textures" section; its image lies in "images", its name in
-// "texture_names".
-struct TextureEntry {
-  uint64_t image_offset, image_bytes;
-  uint32_t width, height;
-  uint32_t name_offset, name_size;
-  uint8_t codec, has_alpha, reserved[6];
-};
-static_assert(sizeof(TextureEntry) == 40);
-
-// The sections this build writes and reads. A section a reader does not know is skipped,
-// unless flagged required (then the file needs a newer farfield).
-enum Tag {
-  kObjects,
-  kMaterials,
-  kVertices,
-  kIndices,
-  kNames,
-  kUvs,
-  kTextures,
-  kTextureNames,
-  kImages,
-  kCells,
-  kCellObjects,
-  kPortals,
-  kPortalPoints,
-  kTagCount
-};
-constexpr const char* kTagNames[kTagCount] = {
-    "objects",       "materials", "vertices", "indices",      "names",   "uvs",          "textures",
-    "texture_names", "images",    "cells",    "cell_objects", "portals", "portal_points"};
-constexpr uint32_t kTagElementSize[kTagCount] = {sizeof(Object),
-                                                 sizeof(Material),
-                                                 sizeof(Vertex),
-                                                 sizeof(uint32_t),
-                                                 1,
-                                                 sizeof(glm::vec2),
-                                                 sizeof(TextureEntry),
-                                                 1,
-                                                 1,
-                                                 sizeof(Cell),
-                                                 sizeof(uint32_t),
-                                                 sizeof(Portal),
-                                                 sizeof(glm::vec3)};
-
-std::string tag_text(const SectionEntryV2& e) {
-  return std::string(e.tag, strnlen(e.tag, sizeof e.tag));
-}
-
-uint64_t header_checksum(const HeaderV2& h, std::span<const SectionEntryV2> table) {
-  XXH3_state_t* state = XXH3_createState();
-  XXH3_64bits_reset(state);
-  XXH3_64bits_update(state, &h, offsetof(HeaderV2, header_checksum));
-  XXH3_64bits_update(state, table.data(), table.size_bytes());
-  const uint64_t hash = XXH3_64bits_digest(state);
-  XXH3_freeState(state);
-  return hash;
-}
-
-// The scene's sections as they are written (textures only when it has some).
-struct SectionsToWrite {
-  std::vector<std::pair<Tag, std::span<const std::byte>>> list;
-  std::vector<TextureEntry> textures;
-  std::string texture_names;
-  std::vector<std::span<const std::byte>> images;  // the "images" section, in pieces
-};
-
-SectionsToWrite sections_of(const Scene& s) {
-  SectionsToWrite out;
-  out.list = {{kObjects, std::as_bytes(std::span(s.objects))},
-              {kMaterials, std::as_bytes(std::span(s.materials))},
-              {kVertices, std::as_bytes(std::span(s.vertices))},
-              {kIndices, std::as_bytes(std::span(s.indices))},
-              {kNames, std::as_bytes(std::span(s.names.data(), s.names.size()))}};
-  if (!s.uvs.empty()) out.list.push_back({kUvs, std::as_bytes(std::span(s.uvs))});
-  if (!s.cells.empty()) {
-    out.list.push_back({kCells, std::as_bytes(std::span(s.cells))});
-    out.list.push_back({kCellObjects, std::as_bytes(std::span(s.cell_objects))});
-    out.list.push_back({kPortals, std::as_bytes(std::span(s.portals))});
-    out.list.push_back({kPortalPoints, std::as_bytes(std::span(s.portal_points))});
-  }
-  if (s.textures.empty()) return out;
-  uint64_t image_offset = 0;
-  for (const Texture& t : s.textures) {
-    TextureEntry e{};
-    e.image_offset = image_offset;
-    e.image_bytes = t.encoded.size();
-    e.width = t.width;
-    e.height = t.height;
-    e.name_offset = uint32_t(out.texture_names.size());
-    e.name_size = uint32_t(t.name.size());
-    e.codec = uint8_t(t.codec);
-    e.has_alpha = t.has_alpha ? 1 : 0;
-    out.textures.push_back(e);
-    out.texture_names += t.name;
-    out.images.push_back(std::as_bytes(std::span(t.encoded)));
-    image_offset += t.encoded.size();
-  }
-  out.list.push_back({kTextures, std::as_bytes(std::span(out.textures))});
-  out.list.push_back({kTextureNames, std::as_bytes(std::span(out.texture_names.data(),
-                                                             out.texture_names.size()))});
-  out.list.push_back({kImages, {}});  // written from `images`
-  return out;
-}
-
-uint64_t images_checksum(const std::vector<std::span<const std::byte>>& pieces, uint64_t* bytes) {
-  XXH3_state_t* state = XXH3_createState();
-  XXH3_64bits_reset(state);
-  *bytes = 0;
-  for (auto piece : pieces) {
-    XXH3_64bits_update(state, piece.data(), piece.size());
-    *bytes += piece.size();
-  }
-  const uint64_t hash = XXH3_64bits_digest(state);
-  XXH3_freeState(state);
-  return hash;
-}
-
 template <class T>
-Result<void> read_array(std::vector<T>& out, const SectionEntryV2& e, const ReadAt& read) {
-  out.resize(e.bytes / sizeof(T));
-  return e.bytes ? read(out.data(), e.bytes, e.offset) : Result<void>{};
+Result<void> read_geometry_array(std::vector<T>& out, const SectionEntryV2* e, Tag tag,
+                                 const std::string& name, bool verify, const ReadAt& read) {
+  if (!e) return {};
+  out.resize(e->bytes / sizeof(T));
+  if (e->bytes == 0) return {};
+  if (auto ok = read(out.data(), e->bytes, e->offset); !ok) return ok;
+  if (verify && XXH3_64bits(out.data(), e->bytes) != e->checksum)
+    return corrupted(name, std::string(kTagNames[tag]) + " section checksum mismatch");
+  return {};
 }
+
+// ---- Versions 2 and 3: a header, a table of tagged sections, the sections
+// (scene_file_layout.hpp) -----------------------------------------------------------------------
 
 Result<Scene> read_v2(const char* head, uint64_t file_size, const std::string& name, bool verify,
-                      const ReadAt& read) {
-  HeaderV2 h{};
-  std::memcpy(&h, head, sizeof h);
-  if (h.header_size != sizeof(HeaderV2) || h.section_count > kMaxSections)
-    return make_error(name, ": corrupted .ffscene header");
-  const uint64_t table_end = sizeof(HeaderV2) + uint64_t(h.section_count) * sizeof(SectionEntryV2);
-  if (file_size < table_end) return truncated(name, file_size, table_end);
-  std::vector<SectionEntryV2> table(h.section_count);
-  if (auto ok = read(table.data(), table.size() * sizeof(SectionEntryV2), sizeof(HeaderV2)); !ok)
-    return ok.error();
-  if (header_checksum(h, table) != h.header_checksum)
-    return make_error(name, ": corrupted .ffscene header (checksum mismatch)");
-  if (h.file_size != file_size) {
-    if (file_size < h.file_size) return truncated(name, file_size, h.file_size);
-    return make_error(name, ": .ffscene file has ", std::to_string(file_size - h.file_size),
-                      " unexpected trailing bytes");
-  }
-
-  // Find the known sections; check every one's place in the file.
-  std::array<const SectionEntryV2*, kTagCount> found{};
-  for (const SectionEntryV2& e : table) {
-    const std::string tag = tag_text(e);
-    if (e.offset < table_end || e.offset > file_size || e.bytes > file_size - e.offset ||
-        e.bytes > kMaxSectionBytes)
-      return corrupted(name, tag + " section out of bounds");
-    const auto* known = std::find(std::begin(kTagNames), std::end(kTagNames), tag);
-    if (known == std::end(kTagNames)) {
-      if (e.flags & kRequired)
-        return make_error(name, ": needs a newer farfield (it holds a '", tag,
-                          "' section this build does not know)");
-      continue;
-    }
-    const int t = int(known - std::begin(kTagNames));
-    if (found[t]) return corrupted(name, "two " + tag + " sections");
-    if (e.element_size != kTagElementSize[t] || e.bytes % kTagElementSize[t] != 0)
-      return corrupted(name, tag + " section of the wrong element size");
-    found[t] = &e;
-  }
-  for (int t : {kObjects, kMaterials, kVertices, kIndices, kNames})
-    if (!found[t]) return corrupted(name, std::string("no ") + kTagNames[t] + " section");
-  if (found[kVertices]->bytes / sizeof(Vertex) > UINT32_MAX ||
-      found[kIndices]->bytes / sizeof(uint32_t) > UINT32_MAX || found[kNames]->bytes > UINT32_MAX ||
-      (found[kUvs] && found[kUvs]->bytes / 8 > UINT32_MAX))
-    return corrupted(name, "counts beyond 32-bit ranges");
-  const bool any_texture = found[kTextures] || found[kTextureNames] || found[kImages];
-  if (any_texture && !(found[kTextures] && found[kTextureNames] && found[kImages]))
-    return corrupted(name, "texture sections incomplete");
-  const bool any_cell =
-      found[kCells] || found[kCellObjects] || found[kPortals] || found[kPortalPoints];
-  if (any_cell &&
-      !(found[kCells] && found[kCellObjects] && found[kPortals] && found[kPortalPoints]))
-    return corrupted(name, "cell and portal sections incomplete");
-
+                      const ReadAt& read, uint64_t* chunks) {
+  auto table = read_section_table(head, file_size, name, read);
+  if (!table) return table.error();
   Scene scene;
-  std::string texture_names;
-  std::vector<TextureEntry> textures;
-  std::vector<std::byte> images;
-  auto verify_section = [&](int t, const void* data) -> Result<void> {
-    if (verify && XXH3_64bits(data, found[t]->bytes) != found[t]->checksum)
-      return corrupted(name, std::string(kTagNames[t]) + " section checksum mismatch");
-    return {};
-  };
-  Result<void> ok = read_array(scene.objects, *found[kObjects], read);
-  if (ok) ok = verify_section(kObjects, scene.objects.data());
-  if (ok) ok = read_array(scene.materials, *found[kMaterials], read);
-  if (ok) ok = verify_section(kMaterials, scene.materials.data());
-  if (ok) ok = read_array(scene.vertices, *found[kVertices], read);
-  if (ok) ok = verify_section(kVertices, scene.vertices.data());
-  if (ok) ok = read_array(scene.indices, *found[kIndices], read);
-  if (ok) ok = verify_section(kIndices, scene.indices.data());
-  if (ok) {
-    scene.names.resize(found[kNames]->bytes);
-    if (found[kNames]->bytes)
-      ok = read(scene.names.data(), found[kNames]->bytes, found[kNames]->offset);
+  if (auto ok = read_index_sections(*table, scene, name, verify, read); !ok) return ok.error();
+  const auto& found = table->found;
+  if (auto ok = read_geometry_array(scene.vertices, found[kVertices], kVertices, name, verify, read);
+      !ok)
+    return ok.error();
+  if (auto ok = read_geometry_array(scene.indices, found[kIndices], kIndices, name, verify, read);
+      !ok)
+    return ok.error();
+  if (auto ok = read_geometry_array(scene.uvs, found[kUvs], kUvs, name, verify, read); !ok)
+    return ok.error();
+  // The chunk table is checked here too, so that a file whose chunks lie is refused whole.
+  if (std::string problem = validate_scene_index(scene, scene.vertices.size(),
+                                                 scene.indices.size(), scene.uvs.size());
+      !problem.empty())
+    return make_error(name, ": invalid .ffscene contents (", problem, ")");
+  auto chunk_table = read_chunk_table(*table, scene, name, verify, read);
+  if (!chunk_table) return chunk_table.error();
+  *chunks = chunk_table->size();
+  // The fingerprint stands for the scene where its geometry is not read (chunked_scene.hpp):
+  // it must be the scene's.
+  if (const SectionEntryV2* e = found[kFingerprint]; e && verify) {
+    uint64_t stored = 0;
+    if (auto ok = read(&stored, sizeof stored, e->offset); !ok) return ok.error();
+    if (XXH3_64bits(&stored, sizeof stored) != e->checksum)
+      return corrupted(name, "fingerprint section checksum mismatch");
+    if (stored != scene_fingerprint(scene))
+      return corrupted(name, "the fingerprint is not the scene's");
   }
-  if (ok) ok = verify_section(kNames, scene.names.data());
-  if (ok && found[kUvs]) ok = read_array(scene.uvs, *found[kUvs], read);
-  if (ok && found[kUvs]) ok = verify_section(kUvs, scene.uvs.data());
-  if (ok && any_cell) {
-    ok = read_array(scene.cells, *found[kCells], read);
-    if (ok) ok = verify_section(kCells, scene.cells.data());
-    if (ok) ok = read_array(scene.cell_objects, *found[kCellObjects], read);
-    if (ok) ok = verify_section(kCellObjects, scene.cell_objects.data());
-    if (ok) ok = read_array(scene.portals, *found[kPortals], read);
-    if (ok) ok = verify_section(kPortals, scene.portals.data());
-    if (ok) ok = read_array(scene.portal_points, *found[kPortalPoints], read);
-    if (ok) ok = verify_section(kPortalPoints, scene.portal_points.data());
-  }
-  if (ok && any_texture) {
-    ok = read_array(textures, *found[kTextures], read);
-    if (ok) ok = verify_section(kTextures, textures.data());
-    if (ok) {
-      texture_names.resize(found[kTextureNames]->bytes);
-      if (!texture_names.empty())
-        ok = read(texture_names.data(), texture_names.size(), found[kTextureNames]->offset);
-    }
-    if (ok) ok = verify_section(kTextureNames, texture_names.data());
-    if (ok) ok = read_array(images, *found[kImages], read);
-    if (ok) ok = verify_section(kImages, images.data());
-  }
-  if (!ok) return ok.error();
-
-  for (size_t i = 0; i < textures.size(); ++i) {
-    const TextureEntry& e = textures[i];
-    if (e.image_offset > images.size() || e.image_bytes > images.size() - e.image_offset ||
-        uint64_t(e.name_offset) + e.name_size > texture_names.size())
-      return corrupted(name, "texture " + std::to_string(i) + " out of range");
-    Texture t;
-    t.name = texture_names.substr(e.name_offset, e.name_size);
-    t.codec = TextureCodec(e.codec);
-    t.width = e.width;
-    t.height = e.height;
-    t.has_alpha = e.has_alpha != 0;
-    t.encoded.assign(images.begin() + ptrdiff_t(e.image_offset),
-                     images.begin() + ptrdiff_t(e.image_offset + e.image_bytes));
-    scene.textures.push_back(std::move(t));
-  }
-  scene.bounds.min = {h.bounds_min[0], h.bounds_min[1], h.bounds_min[2]};
-  scene.bounds.max = {h.bounds_max[0], h.bounds_max[1], h.bounds_max[2]};
   return scene;
 }
 
@@ -423,13 +181,14 @@ Result<Scene> read_any(uint64_t file_size, const std::string& name, bool verify,
   uint32_t version = 0;
   std::memcpy(&version, head + 8, sizeof version);
   Result<Scene> scene = make_error("");
+  uint64_t chunks = 0;
   if (version == 1) {
     scene = read_v1(file_size, name, verify, read);
   } else if (version == 2 || version == kSceneFileVersion) {
     if (file_size < sizeof(HeaderV2))
       return make_error(name, ": truncated .ffscene file (", std::to_string(file_size),
                         " bytes, shorter than its header)");
-    scene = read_v2(head, file_size, name, verify, read);
+    scene = read_v2(head, file_size, name, verify, read, &chunks);
   } else {
     return make_error(name, ": unsupported .ffscene version ", std::to_string(version),
                       " (this build reads versions 1 to ", std::to_string(kSceneFileVersion), ")");
@@ -437,72 +196,19 @@ Result<Scene> read_any(uint64_t file_size, const std::string& name, bool verify,
   if (!scene) return scene;
   if (std::string problem = validate_scene(*scene); !problem.empty())
     return make_error(name, ": invalid .ffscene contents (", problem, ")");
-  if (info) *info = {version, file_size};
+  if (info) *info = {version, file_size, chunks};
   return scene;
 }
 
 }  // namespace
 
 Result<void> write_scene(const Scene& scene, const std::string& path) {
-  if (std::string problem = validate_scene(scene); !problem.empty())
-    return make_error(path, ": refusing to write an invalid scene (", problem, ")");
-
-  const SectionsToWrite sections = sections_of(scene);
-  std::vector<SectionEntryV2> table(sections.list.size());
-  HeaderV2 h{};
-  std::memcpy(h.magic, kMagic, sizeof(kMagic));
-  h.version = kSceneFileVersion;
-  h.header_size = sizeof(HeaderV2);
-  h.section_count = uint32_t(table.size());
-  for (int a = 0; a < 3; ++a) {
-    h.bounds_min[a] = scene.bounds.min[a];
-    h.bounds_max[a] = scene.bounds.max[a];
-  }
-  uint64_t offset = align_up(sizeof(HeaderV2) + table.size() * sizeof(SectionEntryV2));
-  for (size_t i = 0; i < table.size(); ++i) {
-    const auto& [tag, bytes] = sections.list[i];
-    SectionEntryV2& e = table[i];
-    std::memcpy(e.tag, kTagNames[tag], std::strlen(kTagNames[tag]));  // the rest stays zero
-    e.offset = offset;
-    e.element_size = kTagElementSize[tag];
-    e.flags = kRequired;
-    if (tag == kImages) {
-      e.checksum = images_checksum(sections.images, &e.bytes);
-    } else {
-      e.bytes = bytes.size();
-      e.checksum = XXH3_64bits(bytes.data(), bytes.size());
-    }
-    offset = align_up(offset + e.bytes);
-  }
-  h.file_size = offset;
-  h.header_checksum = header_checksum(h, table);
-
-  return write_file_atomically(path, [&](int fd) {
-    static constexpr std::array<char, kAlignment> kZeros{};
-    uint64_t written = 0;
-    auto put = [&](const void* data, uint64_t n) {
-      written += n;
-      return n == 0 || write_all(fd, data, n);
-    };
-    auto pad_to = [&](uint64_t position) {
-      for (uint64_t n; written < position;)
-        if (n = std::min<uint64_t>(position - written, kAlignment); !put(kZeros.data(), n))
-          return false;
-      return true;
-    };
-    if (!put(&h, sizeof h) || !put(table.data(), table.size() * sizeof(SectionEntryV2)))
-      return false;
-    for (size_t i = 0; i < table.size(); ++i) {
-      if (!pad_to(table[i].offset)) return false;
-      if (sections.list[i].first == kImages) {
-        for (auto piece : sections.images)
-          if (!put(piece.data(), piece.size())) return false;
-      } else if (!put(sections.list[i].second.data(), sections.list[i].second.size())) {
-        return false;
-      }
-    }
-    return pad_to(h.file_size);
-  });
+  auto writer = SceneFileWriter::create(path, {scene.vertices.size(), scene.indices.size()});
+  if (!writer) return writer.error();
+  if (auto ok = writer->append(scene); !ok) return ok;
+  auto written = writer->finish(scene, scene_fingerprint(scene));
+  if (!written) return written.error();
+  return {};
 }
 
 Result<Scene> read_scene(const std::string& path, SceneFileInfo* info) {

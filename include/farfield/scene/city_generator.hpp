@@ -31,6 +31,7 @@
 #include "farfield/core/progress.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/scene/scene.hpp"
+#include "farfield/scene/scene_file.hpp"
 
 namespace farfield {
 
@@ -65,6 +66,13 @@ Result<void> validate_city_options(const CityOptions& options);
 // Generates the city into a new scene: sizes it block by block ("size city"), then writes it
 // ("generate city", progress per block). Fails on bad options, or when the city would not fit
 // the 2^32 vertices and indices of a scene.
+// Held whole in memory: refused when it would not fit.
 Result<Scene> generate_city(const CityOptions& options, Progress& progress);
+
+// The same city written to a .ffscene file a block at a time, byte for byte the file
+// write_scene(generate_city(...)) writes, in bounded memory (the objects' table and a block):
+// cities larger than memory. Refused when the disk cannot hold it.
+Result<SceneFileInfo> write_city(const CityOptions& options, const std::string& path,
+                                 Progress& progress);
 
 }  // namespace farfield

@@ -11,7 +11,9 @@
 // they came (PNG or JPEG); see docs/scene.md for bytes per triangle of typical scenes.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -178,6 +180,9 @@ class SceneBuilder {
 // from at most `samples` triangles spread evenly over the index array. Techniques size their
 // smallest representations by it (a colour cube smaller than a triangle gains nothing).
 float median_triangle_edge(const Scene& scene, uint64_t samples = 1u << 20);
+// The same over triangles whose indices count from the first of `vertices`.
+float median_triangle_edge(std::span<const Vertex> vertices, std::span<const uint32_t> indices,
+                           uint64_t samples = 1u << 20);
 
 // The object whose index range holds `triangle` (index / 3); none past the scene's.
 std::optional<uint32_t> object_of_triangle(const Scene& scene, uint64_t triangle);
@@ -185,8 +190,35 @@ std::optional<uint32_t> object_of_triangle(const Scene& scene, uint64_t triangle
 // XXH3-64 of the scene's arrays: a bake records it and refuses to serve another scene.
 uint64_t scene_fingerprint(const Scene& scene);
 
+// The same fingerprint where the geometry is held elsewhere (a file being written, a scene left
+// on disk): `index` holds everything but vertices, indices and texture coordinates, of which
+// there are `uv_count`; `geometry` hands the bytes of the array asked for to `feed`, in order,
+// in as many pieces as it likes.
+enum class GeometryArray : uint8_t { vertices, indices, uvs };
+using ByteSink = std::function<void(std::span<const std::byte>)>;
+uint64_t scene_fingerprint(const Scene& index, uint64_t uv_count,
+                           const std::function<void(GeometryArray, const ByteSink& feed)>& geometry);
+
 // Checks every invariant a renderer relies on (ranges, indices, materials, names, bounds).
 // Returns a message naming the first broken one, or an empty string.
 std::string validate_scene(const Scene& scene);
+
+// The part of validate_scene that needs no geometry: objects' ranges against the arrays' sizes,
+// names, kinds, materials, textures, cells and portals.
+std::string validate_scene_index(const Scene& index, uint64_t vertex_count, uint64_t index_count,
+                                 uint64_t uv_count);
+
+// The rest, for objects [first_object, first_object + object_count) of `index` whose geometry
+// is held in arrays that start at the scene's vertex `vertex_base` (indices absolute, as in
+// the scene), index `index_base` and texture coordinate `uv_base`: each object's indices
+// within its vertices, finite positions and coordinates.
+struct GeometrySpan {
+  std::span<const Vertex> vertices;
+  std::span<const uint32_t> indices;
+  std::span<const glm::vec2> uvs;
+  uint64_t vertex_base = 0, index_base = 0, uv_base = 0;
+};
+std::string validate_geometry(const Scene& index, uint32_t first_object, uint32_t object_count,
+                              const GeometrySpan& geometry);
 
 }  // namespace farfield
