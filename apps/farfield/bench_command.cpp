@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
+#include "farfield/scene/chunked_scene.hpp"
 #include "farfield/core/camera_path.hpp"
 #include "farfield/core/view.hpp"
 #include "farfield/eval/bench.hpp"
@@ -34,9 +35,9 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_option("--store", s->bench.store_file,
                   "A .ffpack from 'farfield bake': techniques load their bake from it");
   cmd->add_option("--path", s->path, "Camera path (farfield path ... --out path.json)")->required();
-  cmd->add_option("--technique,-t", s->techniques, technique_help)
-      ->delimiter(',')
-      ->capture_default_str();
+  CLI::Option* technique_option = cmd->add_option("--technique,-t", s->techniques, technique_help)
+                                      ->delimiter(',')
+                                      ->capture_default_str();
   cmd->add_option("--set", s->settings,
                   "Technique setting TECHNIQUE.KEY=VALUE, repeatable (e.g. colorcube.depth=6)");
   cmd->add_option("--frames", s->frames, "Play only the path's first N frames (0: all)")
@@ -80,10 +81,18 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_flag("--pipelined", s->bench.pipelined,
                 "Run each technique's path a second time with selection one frame ahead on a "
                 "second thread; report its frame time and latency beside the first run's");
+  cmd->add_option("--cache-mb", s->bench.cache_mb,
+                  "Leave the scene's geometry in its file and walk it through a cache of this "
+                  "many MB of GPU meshes, read on demand on a background thread: scenes larger "
+                  "than memory (techniques that stream: brute); 0: read the scene whole")
+      ->check(CLI::Range(uint64_t(0), uint64_t(1) << 20));
   cmd->add_flag("--no-plot", s->no_plot, "Skip the frame-time plot (needs python3-matplotlib)");
   cmd->add_option("--out,-o", s->bench.out_dir, "Output folder")->required();
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
-  commands.push_back({cmd, [s] {
+  commands.push_back({cmd, [s, technique_option] {
+                        // With --cache-mb the default is what streams.
+                        if (s->bench.cache_mb > 0 && technique_option->count() == 0)
+                          s->techniques = {"brute"};
                         s->bench.techniques = s->techniques;
                         for (const std::string& setting : s->settings)
                           if (auto ok = s->bench.settings.add(setting); !ok)
@@ -99,10 +108,21 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
                           return fail("--frames " + std::to_string(s->frames) + ": " + s->path +
                                       " has only " + counted(path->frames.size(), "frame"));
                         if (s->frames > 0) path->frames.resize(s->frames);
-                        auto scene = read_scene(s->bench.scene_file);
-                        if (!scene) return fail(scene.error().message);
+                        std::optional<ChunkedScene> on_disk;
+                        std::optional<Scene> in_memory;
+                        if (s->bench.cache_mb > 0) {
+                          auto opened = ChunkedScene::open(s->bench.scene_file);
+                          if (!opened) return fail(opened.error().message);
+                          on_disk.emplace(std::move(*opened));
+                        } else {
+                          auto read = read_scene(s->bench.scene_file);
+                          if (!read) return fail(read.error().message);
+                          in_memory.emplace(std::move(*read));
+                        }
                         Progress progress(s->quiet);
-                        auto report = run_bench(*scene, *path, s->bench, progress);
+                        auto report =
+                            run_bench(on_disk ? on_disk->index() : *in_memory, *path, s->bench,
+                                      progress, on_disk ? &*on_disk : nullptr);
                         progress.finish();
                         if (!report) return fail(report.error().message);
                         std::fputs(format_bench_summary(*report).c_str(), stdout);

@@ -13,12 +13,14 @@
 
 #include "bench_report.hpp"
 #include "farfield/core/text.hpp"
+#include "farfield/core/assert.hpp"
 #include "farfield/core/atomic_file.hpp"
 #include "farfield/eval/frame_loop.hpp"
 #include "farfield/eval/image_metrics.hpp"
 #include "farfield/eval/run_plan.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/renderer.hpp"
+#include "farfield/scene/chunked_scene.hpp"
 #include "farfield/store/store.hpp"
 #include "frame_plot.hpp"
 
@@ -118,8 +120,9 @@ class BenchRun {
  public:
   BenchRun(const Scene& scene, const CameraPath& path, const BenchOptions& options,
            const Store* store, const std::vector<PlannedTechnique>& plan, gpu::Renderer& renderer,
-           Progress& progress)
+           Progress& progress, const ChunkedScene* on_disk)
       : scene_(scene),
+        on_disk_(on_disk),
         path_(path),
         o_(options),
         store_(store),
@@ -217,7 +220,10 @@ class BenchRun {
     e.gpu_bytes_before = renderer_.resource_bytes();
     const auto start = Clock::now();
     Progress quiet(true);
-    if (auto ok = e.technique->load({scene_, store_, renderer_, quiet}); !ok) return ok.error();
+    if (auto ok = e.technique->load(
+            {scene_, store_, renderer_, quiet, on_disk_, o_.cache_mb * 1000000});
+        !ok)
+      return ok.error();
     e.record.load_s = seconds_since(start);
     e.record.description = e.technique->describe();
     return {};
@@ -321,6 +327,7 @@ class BenchRun {
   }
 
   const Scene& scene_;
+  const ChunkedScene* on_disk_;
   const CameraPath& path_;
   const BenchOptions& o_;
   const Store* store_;
@@ -335,9 +342,15 @@ class BenchRun {
 }  // namespace
 
 Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
-                              const BenchOptions& options, Progress& progress) {
+                              const BenchOptions& options, Progress& progress,
+                              const ChunkedScene* on_disk) {
   // Everything asked is checked before the first frame or file.
   if (auto ok = check_options(options, path); !ok) return ok.error();
+  FF_ASSERT((on_disk != nullptr) == (options.cache_mb > 0), "cache of %llu MB, scene %s disk",
+            (unsigned long long)options.cache_mb, on_disk ? "on" : "not on");
+  if (on_disk && std::find(options.techniques.begin(), options.techniques.end(),
+                           std::string(kRawBound)) != options.techniques.end())
+    return make_error(kRawBound, " draws the scene's own buffers: not with --cache-mb");
   std::vector<std::string> names{"brute"};  // first: the reference of every other technique
   for (const std::string& n : options.techniques)
     if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
@@ -350,7 +363,8 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
     if (!opened) return opened.error();
     store.emplace(std::move(*opened));
   }
-  auto plan = plan_run(techniques, options.settings, store ? &*store : nullptr, scene);
+  auto plan =
+      plan_run(techniques, options.settings, store ? &*store : nullptr, scene, false, on_disk);
   if (!plan) return plan.error();
   if (auto ok = check_writable_folder(options.out_dir); !ok) return ok.error();
   remove_earlier_outputs(options.out_dir);
@@ -365,13 +379,15 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
   BenchReport report;
   report.renderer = (*context)->renderer_name();
   report.scene_texture_gpu_bytes = (*renderer)->scene_texture_bytes();
+  report.scene_triangles = on_disk ? on_disk->triangle_count() : scene.triangle_count();
   report.interleaved = options.interleave;
   report.pipelined = options.pipelined;
   report.width = options.width;
   report.height = options.height;
   report.budget_ms = options.budget_ms;
   {
-    BenchRun run(scene, path, options, store ? &*store : nullptr, *plan, **renderer, progress);
+    BenchRun run(scene, path, options, store ? &*store : nullptr, *plan, **renderer, progress,
+                 on_disk);
     auto records = run.run(names);
     if (!records) return records.error();
     report.techniques = std::move(*records);

@@ -27,7 +27,7 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
   uint64_t texels = 0;
   for (const Texture& t : scene.textures) texels += uint64_t(t.width) * t.height;
   root["scene"] = {{"file", options.scene_file},
-                   {"triangles", scene.triangle_count()},
+                   {"triangles", report.scene_triangles},
                    {"objects", scene.objects.size()},
                    {"textures", scene.textures.size()},
                    {"texels", texels},
@@ -40,6 +40,7 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
   root["renderer"] = report.renderer;
   root["warmup_frames"] = options.warmup_frames;
   root["budget_ms"] = options.budget_ms;
+  root["cache_mb"] = options.cache_mb;
   root["light_deg"] = {options.light_heading_deg, options.light_elevation_deg};
   root["interleaved"] = report.interleaved;
   root["pipelined"] = report.pipelined;

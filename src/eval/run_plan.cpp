@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "farfield/scene/chunked_scene.hpp"
 #include "farfield/store/store.hpp"
 
 namespace farfield {
@@ -31,7 +32,8 @@ bool differs(const SettingSpec& spec, const std::string& asked, const std::strin
 Result<std::vector<PlannedTechnique>> plan_run(const std::vector<std::string>& names,
                                                const TechniqueSettings& settings,
                                                const Store* store, const Scene& scene,
-                                               bool others_may_be_set) {
+                                               bool others_may_be_set,
+                                               const ChunkedScene* on_disk) {
   // The techniques that run, parts after the technique that holds them.
   std::vector<const TechniqueDescriptor*> running;
   std::vector<std::string> pending = names;
@@ -61,7 +63,8 @@ Result<std::vector<PlannedTechnique>> plan_run(const std::vector<std::string>& n
     }
   }
 
-  const uint64_t fingerprint = scene_fingerprint(scene);
+  // A scene left on disk has no geometry in memory: its file holds its fingerprint.
+  const uint64_t fingerprint = on_disk ? on_disk->fingerprint() : scene_fingerprint(scene);
   std::vector<PlannedTechnique> plan;
   for (const TechniqueDescriptor* d : running) {
     auto values = parse_settings(*d, settings);
@@ -69,6 +72,9 @@ Result<std::vector<PlannedTechnique>> plan_run(const std::vector<std::string>& n
     if (auto made = d->make(*values, settings); !made) return made.error();  // cross-checks
     PlannedTechnique p{d, std::nullopt};
     const std::string name(d->name);
+    if (on_disk && !d->streams)
+      return make_error(name, " cannot walk a scene left on disk (--cache-mb): it needs the "
+                        "scene in memory (drop --cache-mb)");
     if (d->bake == BakeUse::required && store == nullptr)
       return make_error(name, " draws from a bake: bake it first (farfield bake SCENE --technique ",
                         name, " --out PACK.ffpack), then pass --store PACK.ffpack");

@@ -86,9 +86,11 @@ Result<MeshHandle> GpuResources::add_mesh(const void* vertices, size_t vertex_co
   return store(std::move(m));
 }
 
-Result<MeshHandle> GpuResources::add_scene_mesh(std::span<const Vertex> vertices,
-                                                std::span<const glm::vec2> uvs,
-                                                std::span<const uint32_t> indices) {
+namespace {
+
+// Buffers and a VAO reading the vertices (binding 0) and texture coordinates (binding 3).
+Result<GpuMesh> make_scene_mesh(std::span<const Vertex> vertices, std::span<const glm::vec2> uvs,
+                                std::span<const uint32_t> indices) {
   FF_ASSERT(indices.size() % 3 == 0 && indices.size() <= UINT32_MAX, "%zu mesh indices",
             indices.size());
   FF_ASSERT(uvs.empty() || uvs.size() == vertices.size(),
@@ -123,7 +125,30 @@ Result<MeshHandle> GpuResources::add_scene_mesh(std::span<const Vertex> vertices
   m.index_count = uint32_t(indices.size());
   m.bytes = vertices.size() * sizeof(Vertex) + uvs.size() * sizeof(glm::vec2) +
             indices.size() * sizeof(uint32_t);
-  return store(std::move(m));
+  return m;
+}
+
+}  // namespace
+
+Result<MeshHandle> GpuResources::add_scene_mesh(std::span<const Vertex> vertices,
+                                                std::span<const glm::vec2> uvs,
+                                                std::span<const uint32_t> indices) {
+  auto m = make_scene_mesh(vertices, uvs, indices);
+  if (!m) return m.error();
+  return store(std::move(*m));
+}
+
+Result<void> GpuResources::replace_scene_mesh(MeshHandle handle, std::span<const Vertex> vertices,
+                                              std::span<const glm::vec2> uvs,
+                                              std::span<const uint32_t> indices) {
+  FF_ASSERT(mesh(handle).kind == MeshKind::scene, "mesh %u is not a scene mesh", handle.id);
+  auto m = make_scene_mesh(vertices, uvs, indices);
+  if (!m) return m.error();
+  GpuMesh& slot = meshes_[handle.id - 1];
+  delete_mesh(slot);
+  slot = std::move(*m);
+  slot.live = true;
+  return {};
 }
 
 MeshHandle GpuResources::store(GpuMesh m) {

@@ -60,6 +60,10 @@ class GpuResources {
   Result<MeshHandle> add_scene_mesh(std::span<const Vertex> vertices,
                                     std::span<const glm::vec2> uvs,
                                     std::span<const uint32_t> indices);
+  // New contents for a live scene mesh, under the same handle (streamed geometry).
+  Result<void> replace_scene_mesh(MeshHandle handle, std::span<const Vertex> vertices,
+                                  std::span<const glm::vec2> uvs,
+                                  std::span<const uint32_t> indices);
   TextureHandle add_texture();
   void free(MeshHandle mesh);
   void free(TextureHandle texture);

@@ -623,9 +623,13 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
   s.white_material = uint32_t(materials.size());
   materials.push_back(Material{glm::vec4(1.0f)});
   s.index_count = uint32_t(scene.indices.size());
-  auto planned = plan_scene_chunks(scene, chunk_bytes);
-  if (!planned) return planned.error();
-  s.chunk_ranges = std::move(*planned);
+  // A scene without geometry (its index, the geometry left on disk) gets no buffers: its
+  // objects are drawn from scene meshes (streamed through gpu/mesh_pool.hpp).
+  if (!scene.indices.empty()) {
+    auto planned = plan_scene_chunks(scene, chunk_bytes);
+    if (!planned) return planned.error();
+    s.chunk_ranges = std::move(*planned);
+  }
   if (auto made = make_buffer(s.material_buffer, "material buffer",
                               materials.size() * sizeof(Material), materials.data(), 0);
       !made)
@@ -709,6 +713,14 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
                                const DrawList& list) {
   State& s = *state_;
   for (const TextureUpload& u : list.uploads) s.resources.upload(u);
+  for (const SceneMeshUpload& u : list.mesh_uploads) {
+    // A bounded pool (mesh_pool.hpp) holds what the GPU was sized for: failing here is a bug.
+    auto replaced = s.resources.replace_scene_mesh(u.mesh, u.data->vertices, u.data->uvs,
+                                                   u.data->indices);
+    FF_ASSERT(replaced.ok(), "streamed mesh %u: %s", u.mesh.id,
+              replaced.ok() ? "" : replaced.error().message.c_str());
+    s.bind_scene_attributes(s.resources.mesh(u.mesh).vao);
+  }
   s.commands.clear();
   s.add_scene_ranges(list.opaque, s.opaque_batches, true);
   s.add_scene_ranges(list.transparent, s.transparent_batches, false);

@@ -17,6 +17,8 @@
 
 namespace farfield {
 
+class ChunkedScene;
+
 // `raw` is not a technique: it is the bound of the protocol, all the scene's triangles in one
 // indexed draw with the same shading and no per-object work.
 inline constexpr const char* kRawBound = "raw";
@@ -44,6 +46,9 @@ struct BenchOptions {
   // After each technique's run, the path again with selection one frame ahead on a second
   // thread (FrameLoop::run_pipelined); its figures beside the first run's.
   bool pipelined = false;
+  // > 0: the scene's geometry stays in its file (run_bench's `on_disk`) and the techniques
+  // walk it through a cache of this many MB of GPU meshes (--cache-mb).
+  uint64_t cache_mb = 0;
 };
 
 struct FrameRecord {
@@ -78,14 +83,18 @@ struct TechniqueRecord {
 struct BenchReport {
   std::string renderer;                  // GL_RENDERER
   uint64_t scene_texture_gpu_bytes = 0;  // the scene's texture arrays, mipmaps included
+  uint64_t scene_triangles = 0;          // in memory or left on disk
   bool interleaved = false, pipelined = false;
   int width = 0, height = 0;
   double budget_ms = 0;  // BenchOptions::budget_ms
   std::vector<TechniqueRecord> techniques;
 };
 
+// `on_disk`: the scene's geometry left in its file (options.cache_mb > 0); `scene` is then its
+// index, without geometry.
 Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
-                              const BenchOptions& options, Progress& progress);
+                              const BenchOptions& options, Progress& progress,
+                              const ChunkedScene* on_disk = nullptr);
 
 // The summary table printed after a run: one line per technique.
 std::string format_bench_summary(const BenchReport& report);

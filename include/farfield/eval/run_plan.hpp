@@ -15,6 +15,8 @@
 
 namespace farfield {
 
+class ChunkedScene;
+
 class Store;
 
 struct PlannedTechnique {
@@ -29,7 +31,8 @@ struct PlannedTechnique {
 Result<std::vector<PlannedTechnique>> plan_run(const std::vector<std::string>& names,
                                                const TechniqueSettings& settings,
                                                const Store* store, const Scene& scene,
-                                               bool others_may_be_set = false);
+                                               bool others_may_be_set = false,
+                                               const ChunkedScene* on_disk = nullptr);
 
 // Creates `folder` (and its parents) and proves it writable with a probe file, removed again.
 Result<void> check_writable_folder(const std::string& folder);

@@ -1,7 +1,7 @@
 // DrawList: what techniques selected for one frame, as plain data (DESIGN.md). Several
 // techniques may append to one list (composite): every entry names what it draws, scene
 // ranges by index range, technique meshes and textures by the handles the renderer gave out
-// (gpu/device.hpp). The renderer makes the `uploads` first, then draws `opaque` scene ranges
+// (gpu/device.hpp). The renderer makes the `uploads` and `mesh_uploads` first, then draws `opaque` scene ranges
 // (of the scene's buffers or of scene meshes: LODs, merged meshes, lit like the scene),
 // `meshes` (depth-tested, unlit, textured or not), the `backdrop`, `transparent` scene ranges
 // blended, and `lines` over the top, each in the order given. Capacity is kept between
@@ -17,6 +17,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
+
+#include "farfield/scene/scene.hpp"
 
 namespace farfield {
 
@@ -99,6 +101,25 @@ struct TextureUpload {
   bool nearest = false;  // one level sampled at the nearest texel (image levels that add up)
 };
 
+// Geometry in the scene's vertex format for a scene mesh: `uvs` one per vertex, or empty.
+struct SceneMeshData {
+  std::vector<Vertex> vertices;
+  std::vector<glm::vec2> uvs;
+  std::vector<uint32_t> indices;  // triangles, from the first vertex
+  uint64_t byte_size() const {
+    return vertices.size() * sizeof(Vertex) + uvs.size() * sizeof(glm::vec2) +
+           indices.size() * sizeof(uint32_t);
+  }
+};
+
+// New contents for a scene mesh (Device::create_scene_mesh), replacing its buffers before
+// anything of the list is drawn: streamed geometry, where a mesh of a bounded pool takes the
+// chunk it holds now (gpu/mesh_pool.hpp). The list keeps the data until it is cleared.
+struct SceneMeshUpload {
+  MeshHandle mesh;
+  std::shared_ptr<const SceneMeshData> data;
+};
+
 // A quadrilateral showing a texture: corners at the image's top-left, top-right,
 // bottom-right and bottom-left. Blended with the texture's alpha times `opacity` over what
 // is there; or added to it scaled by that: image differences (paper 003, Sec. 2.3), whose
@@ -140,6 +161,7 @@ struct DrawList {
   std::vector<DrawRange> indexed_opaque, indexed_transparent;
   std::vector<MeshDraw> meshes;
   std::vector<TextureUpload> uploads;
+  std::vector<SceneMeshUpload> mesh_uploads;
   std::vector<TexturedQuad> backdrop;
   BackdropMode backdrop_mode = BackdropMode::far;
   std::vector<LineSegment> lines;
@@ -164,6 +186,7 @@ struct DrawList {
     indexed_transparent.clear();
     meshes.clear();
     uploads.clear();
+    mesh_uploads.clear();
     backdrop.clear();
     backdrop_mode = BackdropMode::far;
     lines.clear();

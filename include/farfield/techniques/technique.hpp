@@ -25,6 +25,7 @@
 namespace farfield {
 
 class Store;
+class ChunkedScene;
 namespace gpu {
 class Renderer;
 }
@@ -68,6 +69,11 @@ struct LoadContext {
                         // checked before (eval/run_plan.hpp: this scene, this format)
   gpu::Device& device;  // outlives the technique: its meshes and textures
   Progress& progress;
+  // Where the scene's geometry was left in its file (bench and view --cache-mb; only for
+  // techniques whose descriptor says `streams`): `scene` is then its index (no vertices or
+  // indices), and the technique reads what it draws through a cache of `cache_bytes`.
+  const ChunkedScene* on_disk = nullptr;
+  uint64_t cache_bytes = 0;
 };
 
 struct BakeContext {

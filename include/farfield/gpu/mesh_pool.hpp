@@ -1,0 +1,78 @@
+// A bounded pool of scene meshes that streamed geometry goes through (issue 16: a walk of a
+// scene larger than memory). Items (a scene's chunks; later a hierarchy's representations),
+// named by 64-bit keys, are loaded on demand on a background thread by the caller's loader,
+// and kept on the GPU while their bytes fit the budget; the least recently wanted go first.
+//
+// Each frame, on the thread that selects: want() every item the frame would draw (it answers
+// with the item's mesh where it is resident: a frame never waits for the disk), then
+// end_frame(), which asks the loader for the missing ones, highest priority first (what was
+// not wanted this frame is no longer asked for), takes in what it has loaded, evicting the
+// least recently wanted items not wanted this frame to make room, and puts their uploads in the
+// frame's DrawList (the renderer replaces a pool mesh's buffers with them before it draws). An
+// item taken in is drawn from the next frame on. A pool mesh is a scene mesh of the device,
+// made once when the pool is made (on the GL thread): the walk makes no GL object.
+//
+// Memory: the budget bounds the meshes' bytes (on llvmpipe the GPU buffers are in system
+// memory); the loaded data waits in memory only until its upload is drawn, and the loader
+// stops reading ahead past a sixteenth of the budget.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "farfield/core/result.hpp"
+#include "farfield/gpu/device.hpp"
+#include "farfield/gpu/draw_list.hpp"
+
+namespace farfield::gpu {
+
+struct MeshPoolOptions {
+  uint64_t budget_bytes = uint64_t(1) << 30;
+  uint32_t meshes = 1024;  // the most items resident at once
+};
+
+// Counters since the pool was made.
+struct MeshPoolCounters {
+  uint64_t hits = 0;        // wants answered with a resident mesh
+  uint64_t misses = 0;      // wants of an item not resident
+  uint64_t bytes_read = 0;  // bytes the loader delivered
+  uint64_t loads = 0, evictions = 0;
+  uint64_t resident_bytes = 0, resident_items = 0;
+  uint64_t peak_resident_bytes = 0;
+};
+
+class MeshPool {
+ public:
+  // Reads an item on the loader thread: its geometry, or an error that names it.
+  using Loader = std::function<Result<std::shared_ptr<const SceneMeshData>>(uint64_t key)>;
+
+  static Result<std::unique_ptr<MeshPool>> create(Device& device, const MeshPoolOptions& options,
+                                                  Loader loader);
+  ~MeshPool();  // stops the loader, frees the meshes
+  MeshPool(const MeshPool&) = delete;
+  MeshPool& operator=(const MeshPool&) = delete;
+
+  // The item's mesh when resident; else it is asked for at end_frame with this priority
+  // (higher first). Wanting a resident item keeps it from eviction this frame.
+  std::optional<MeshHandle> want(uint64_t key, float priority);
+  // See above. Returns how many wants of this frame were missed.
+  uint64_t end_frame(DrawList& out);
+  // Waits until the loader has nothing left to load (tests, references): the next end_frame
+  // takes in everything asked for that fits.
+  void wait_for_loads();
+
+  const MeshPoolCounters& counters() const;
+  // The first load that failed (its loader's message), or empty: such an item is never asked
+  // for again, and the caller should report it.
+  std::string failure() const;
+
+ private:
+  struct State;
+  explicit MeshPool(std::unique_ptr<State> state);
+  std::unique_ptr<State> s_;
+};
+
+}  // namespace farfield::gpu

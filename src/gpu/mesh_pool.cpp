@@ -1,0 +1,212 @@
+#include "farfield/gpu/mesh_pool.hpp"
+
+#include <algorithm>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "farfield/core/assert.hpp"
+
+namespace farfield::gpu {
+
+namespace {
+
+constexpr uint64_t kNoFrame = UINT64_MAX;
+
+struct Slot {
+  MeshHandle mesh;
+  uint64_t key = 0;
+  uint64_t bytes = 0;
+  uint64_t wanted = kNoFrame;  // the last frame that wanted it; kNoFrame: empty
+};
+
+struct Loaded {
+  uint64_t key;
+  Result<std::shared_ptr<const SceneMeshData>> data;
+};
+
+}  // namespace
+
+struct MeshPool::State {
+  State(Device& d, const MeshPoolOptions& o, Loader l)
+      : device(d), options(o), loader(std::move(l)) {}
+  Device& device;
+  MeshPoolOptions options;
+  Loader loader;
+  std::vector<Slot> slots;
+  std::unordered_map<uint64_t, uint32_t> resident;  // key -> slot
+  std::unordered_set<uint64_t> failed;
+  std::string failure;
+  uint64_t frame = 0;
+  std::vector<std::pair<float, uint64_t>> misses;  // this frame's, with their priorities
+  MeshPoolCounters counters;
+
+  // Shared with the loader thread.
+  std::mutex mutex;
+  std::condition_variable wake, idle;
+  std::vector<uint64_t> queue;  // highest priority last
+  std::optional<uint64_t> in_flight;
+  std::vector<Loaded> done;
+  uint64_t done_bytes = 0;
+  bool stop = false;
+  std::thread thread;
+
+  uint64_t read_ahead() const { return std::max<uint64_t>(options.budget_bytes / 16, 1); }
+
+  void run() {
+    std::unique_lock lock(mutex);
+    for (;;) {
+      wake.wait(lock, [&] { return stop || (!queue.empty() && done_bytes < read_ahead()); });
+      if (stop) return;
+      const uint64_t key = queue.back();
+      queue.pop_back();
+      in_flight = key;
+      lock.unlock();
+      Loaded item{key, loader(key)};
+      lock.lock();
+      in_flight.reset();
+      if (item.data) done_bytes += (*item.data)->byte_size();
+      done.push_back(std::move(item));
+      idle.notify_all();
+    }
+  }
+
+  // A free slot, emptying the least recently wanted ones not wanted this frame until `bytes`
+  // more fit the budget; none when they cannot.
+  std::optional<uint32_t> make_room(uint64_t bytes) {
+    if (bytes > options.budget_bytes) return std::nullopt;
+    std::optional<uint32_t> free_slot;
+    for (;;) {
+      if (!free_slot)
+        for (uint32_t i = 0; i < slots.size() && !free_slot; ++i)
+          if (slots[i].wanted == kNoFrame) free_slot = i;
+      if (free_slot && counters.resident_bytes + bytes <= options.budget_bytes) return free_slot;
+      std::optional<uint32_t> oldest;
+      for (uint32_t i = 0; i < slots.size(); ++i)
+        if (slots[i].wanted != kNoFrame && slots[i].wanted < frame &&
+            (!oldest || slots[i].wanted < slots[*oldest].wanted))
+          oldest = i;
+      if (!oldest) return std::nullopt;
+      Slot& s = slots[*oldest];
+      resident.erase(s.key);
+      counters.resident_bytes -= s.bytes;
+      --counters.resident_items;
+      ++counters.evictions;
+      s.wanted = kNoFrame;
+      s.bytes = 0;
+      // Its mesh keeps the old buffers until the slot's next upload replaces them.
+    }
+  }
+};
+
+MeshPool::MeshPool(std::unique_ptr<State> state) : s_(std::move(state)) {}
+
+Result<std::unique_ptr<MeshPool>> MeshPool::create(Device& device, const MeshPoolOptions& options,
+                                                   Loader loader) {
+  FF_ASSERT(options.meshes > 0 && loader, "a mesh pool of %u meshes", options.meshes);
+  auto s = std::make_unique<State>(device, options, std::move(loader));
+  s->slots.resize(options.meshes);
+  for (Slot& slot : s->slots) {
+    auto mesh = device.create_scene_mesh({}, {}, {});
+    if (!mesh) {
+      for (Slot& made : s->slots)
+        if (made.mesh) device.free(made.mesh);
+      return mesh.error();
+    }
+    slot.mesh = *mesh;
+  }
+  State* raw = s.get();
+  s->thread = std::thread([raw] { raw->run(); });
+  return std::unique_ptr<MeshPool>(new MeshPool(std::move(s)));
+}
+
+MeshPool::~MeshPool() {
+  {
+    std::lock_guard lock(s_->mutex);
+    s_->stop = true;
+  }
+  s_->wake.notify_all();
+  s_->thread.join();
+  for (Slot& slot : s_->slots) s_->device.free(slot.mesh);
+}
+
+std::optional<MeshHandle> MeshPool::want(uint64_t key, float priority) {
+  State& s = *s_;
+  if (auto it = s.resident.find(key); it != s.resident.end()) {
+    ++s.counters.hits;
+    s.slots[it->second].wanted = s.frame;
+    return s.slots[it->second].mesh;
+  }
+  ++s.counters.misses;
+  if (!s.failed.contains(key)) s.misses.push_back({priority, key});
+  return std::nullopt;
+}
+
+uint64_t MeshPool::end_frame(DrawList& out) {
+  State& s = *s_;
+  std::vector<Loaded> done;
+  // Highest priority last (the loader takes from the back); one entry a key.
+  std::stable_sort(s.misses.begin(), s.misses.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::unordered_set<uint64_t> asked;
+  std::vector<uint64_t> queue;
+  for (const auto& [priority, key] : s.misses)
+    if (asked.insert(key).second) queue.push_back(key);
+  const uint64_t missed = s.misses.size();
+  s.misses.clear();
+  {
+    std::lock_guard lock(s.mutex);
+    done.swap(s.done);
+    s.done_bytes = 0;
+    std::erase_if(queue, [&](uint64_t key) {
+      return (s.in_flight && *s.in_flight == key) ||
+             std::any_of(done.begin(), done.end(), [&](const Loaded& d) { return d.key == key; });
+    });
+    std::reverse(queue.begin(), queue.end());
+    s.queue = std::move(queue);
+  }
+  s.wake.notify_all();
+  for (Loaded& item : done) {
+    if (!item.data) {
+      s.failed.insert(item.key);
+      if (s.failure.empty()) s.failure = item.data.error().message;
+      continue;
+    }
+    std::shared_ptr<const SceneMeshData> data = std::move(*item.data);
+    const uint64_t bytes = data->byte_size();
+    ++s.counters.loads;
+    s.counters.bytes_read += bytes;
+    if (s.resident.contains(item.key)) continue;
+    const std::optional<uint32_t> slot = s.make_room(bytes);
+    if (!slot) continue;  // the frame wants more than the budget: asked for again if wanted
+    Slot& to = s.slots[*slot];
+    to.key = item.key;
+    to.bytes = bytes;
+    to.wanted = s.frame;
+    s.resident[item.key] = *slot;
+    s.counters.resident_bytes += bytes;
+    ++s.counters.resident_items;
+    s.counters.peak_resident_bytes =
+        std::max(s.counters.peak_resident_bytes, s.counters.resident_bytes);
+    out.mesh_uploads.push_back({to.mesh, std::move(data)});
+  }
+  ++s.frame;
+  return missed;
+}
+
+void MeshPool::wait_for_loads() {
+  State& s = *s_;
+  std::unique_lock lock(s.mutex);
+  s.idle.wait(lock, [&] {
+    return !s.in_flight && (s.queue.empty() || s.done_bytes >= s.read_ahead());
+  });
+}
+
+const MeshPoolCounters& MeshPool::counters() const { return s_->counters; }
+
+std::string MeshPool::failure() const { return s_->failure; }
+
+}  // namespace farfield::gpu

@@ -1,0 +1,160 @@
+// A scene left on disk walked through a small cache (techniques/chunk_stream.hpp, brute with
+// --cache-mb): chunks are evicted as the view moves, and every frame whose chunks were all
+// loaded equals brute force's from the scene in memory, pixel for pixel (GL, headless).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "farfield/eval/image_metrics.hpp"
+#include "farfield/gpu/context.hpp"
+#include "farfield/gpu/renderer.hpp"
+#include "farfield/scene/chunked_scene.hpp"
+#include "farfield/scene/city_generator.hpp"
+#include "farfield/scene/scene_file_writer.hpp"
+#include "farfield/techniques/technique_descriptor.hpp"
+#include "test_util.hpp"
+
+namespace farfield {
+namespace {
+
+double figure(const Technique& t, const std::string& name) {
+  for (const auto& [key, value] : t.figures())
+    if (key == name) return value;
+  ADD_FAILURE() << "no figure " << name;
+  return -1;
+}
+
+TEST(ChunkStreamGL, SmallCacheEvictsAndLoadedFramesEqualBrute) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << "no GL context";
+  test::TempDir dir;
+  CityOptions options;
+  options.blocks_x = options.blocks_z = 3;
+  options.textures = true;  // texture coordinates spread per vertex on the way
+  Progress quiet(true);
+  auto city = generate_city(options, quiet);
+  ASSERT_TRUE(city);
+  auto writer = SceneFileWriter::create(dir.file("c.ffscene"),
+                                        {city->vertices.size(), city->indices.size()}, 3000);
+  ASSERT_TRUE(writer);
+  ASSERT_TRUE(writer->append(*city));
+  ASSERT_TRUE(writer->finish(*city));
+  auto on_disk = ChunkedScene::open(dir.file("c.ffscene"));
+  ASSERT_TRUE(on_disk) << on_disk.error().message;
+  uint64_t scene_bytes = 0;
+  for (const SceneChunk& k : on_disk->chunks()) scene_bytes += k.byte_size();
+  ASSERT_GT(on_disk->chunks().size(), 20u);
+
+  auto whole = gpu::Renderer::create(*city);
+  auto streamed = gpu::Renderer::create(on_disk->index());
+  ASSERT_TRUE(whole && streamed);
+  auto brute = make_technique("brute");
+  auto walker = make_technique("brute", test::settings_of({"brute.wait=1"}));
+  ASSERT_TRUE(test::load_technique(**brute, *city, whole->get()));
+  Progress silent(true);
+  const uint64_t cache = scene_bytes / 4;
+  ASSERT_TRUE((*walker)->load({on_disk->index(), nullptr, **streamed, silent, &*on_disk, cache}));
+
+  const Bounds3 b = city->bounds;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> x(b.min.x, b.max.x), z(b.min.z, b.max.z),
+      height(40.0f, 90.0f), yaw(0.0f, 360.0f);
+  DrawList all, list;
+  int complete = 0;
+  for (int i = 0; i < 24; ++i) {
+    View view;
+    view.width = 160;
+    view.height = 120;
+    view.hfov_deg = 50.0f;
+    view.pose = {{x(rng), height(rng), z(rng)}, yaw(rng), -85.0f};  // looking down on a block
+    (*whole)->set_offscreen(view.width, view.height);
+    (*streamed)->set_offscreen(view.width, view.height);
+    test::select_view(**brute, view, all);
+    (*whole)->draw(view, all);
+    const Image reference = (*whole)->capture();
+    const double incomplete = figure(**walker, "incomplete_frames");
+    test::select_view(**walker, view, list, uint64_t(i));
+    (*streamed)->draw(view, list);
+    const Image image = (*streamed)->capture();
+    if (figure(**walker, "incomplete_frames") > incomplete) continue;  // more than the cache
+    ++complete;
+    const ImageComparison c = compare_images(reference, image);
+    EXPECT_TRUE(c.identical()) << "view " << i << ": " << c.differing_pixels
+                               << " pixels differ, PSNR " << c.psnr_db;
+  }
+  EXPECT_GE(complete, 20);
+  EXPECT_GT(figure(**walker, "cache_evictions"), 0) << "the cache was small enough to evict";
+  EXPECT_LE(figure(**walker, "cache_peak_mb") * 1e6, double(cache));
+  EXPECT_EQ((*walker)->failure(), "");
+}
+
+TEST(ChunkStreamGL, ADamagedChunkIsNamedWhileWalking) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << "no GL context";
+  test::TempDir dir;
+  CityOptions options;
+  options.blocks_x = options.blocks_z = 2;
+  Progress quiet(true);
+  auto city = generate_city(options, quiet);
+  ASSERT_TRUE(city);
+  ASSERT_TRUE(write_scene(*city, dir.file("c.ffscene")));
+  std::string bytes = test::read_file(dir.file("c.ffscene"));
+  const char* vertex = reinterpret_cast<const char*>(&city->vertices[10]);
+  const size_t at = bytes.find(std::string(vertex, sizeof(Vertex)));
+  ASSERT_NE(at, std::string::npos);
+  bytes[at + 2] ^= 4;
+  test::write_file(dir.file("c.ffscene"), bytes);
+  auto on_disk = ChunkedScene::open(dir.file("c.ffscene"));
+  ASSERT_TRUE(on_disk);
+  auto streamed = gpu::Renderer::create(on_disk->index());
+  ASSERT_TRUE(streamed);
+  auto walker = make_technique("brute", test::settings_of({"brute.wait=1"}));
+  Progress silent(true);
+  ASSERT_TRUE((*walker)->load({on_disk->index(), nullptr, **streamed, silent, &*on_disk, 1 << 30}));
+  View view;
+  view.width = 64;
+  view.height = 48;
+  view.pose = {city->bounds.center() + glm::vec3(0, 300, 0), 0.0f, -89.0f};
+  DrawList list;
+  test::select_view(**walker, view, list);
+  EXPECT_NE((*walker)->failure().find("chunk 0 (objects 0 to"), std::string::npos)
+      << (*walker)->failure();
+  EXPECT_NE((*walker)->failure().find("checksum mismatch"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace farfield
+
+namespace farfield {
+namespace {
+
+TEST(ChunkStreamCliGL, BenchWalksASceneLeftOnDisk) {
+  if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
+  test::TempDir dir;
+  const std::string scene = dir.file("c.ffscene"), path = dir.file("p.json");
+  ASSERT_EQ(test::run_farfield("generate city --blocks 2 -q --out " + scene).exit_status, 0);
+  ASSERT_EQ(test::run_farfield("path " + scene + " --kind street --frames 6 --out " + path)
+                .exit_status,
+            0);
+  auto run = test::run_farfield("bench " + scene + " --path " + path +
+                                " --cache-mb 64 --set brute.wait=1 --width 96 --height 64 "
+                                "--samples 1 --no-plot -q --out " + dir.file("b"));
+  ASSERT_EQ(run.exit_status, 0) << run.output;
+  const std::string json = test::read_file(dir.file("b/bench.json"));
+  for (const char* field : {"\"cache_mb\": 64", "\"cache_hits\"", "\"cache_misses\"",
+                            "\"bytes_read\"", "\"incomplete_frames\": 0.0"})
+    EXPECT_NE(json.find(field), std::string::npos) << field << " in " << json;
+  // What cannot walk a scene on disk is refused by name, before any frame.
+  auto octree = test::run_farfield("bench " + scene + " --path " + path +
+                                   " --cache-mb 64 -t octree -q --out " + dir.file("o"));
+  EXPECT_EQ(octree.exit_status, 1) << octree.output;
+  EXPECT_NE(octree.output.find("octree cannot walk a scene left on disk"), std::string::npos)
+      << octree.output;
+  auto raw = test::run_farfield("bench " + scene + " --path " + path +
+                                " --cache-mb 64 -t raw -q --out " + dir.file("r"));
+  EXPECT_EQ(raw.exit_status, 1) << raw.output;
+  EXPECT_NE(raw.output.find("not with --cache-mb"), std::string::npos) << raw.output;
+}
+
+}  // namespace
+}  // namespace farfield
