@@ -3,8 +3,10 @@
 // loaded equals brute force's from the scene in memory, pixel for pixel (GL, headless).
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <random>
 
+#include "farfield/eval/chunked_reference.hpp"
 #include "farfield/eval/image_metrics.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/renderer.hpp"
@@ -88,6 +90,52 @@ TEST(ChunkStreamGL, SmallCacheEvictsAndLoadedFramesEqualBrute) {
   EXPECT_EQ((*walker)->failure(), "");
 }
 
+TEST(ChunkStreamGL, PartsMakeBruteForcesFrame) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << "no GL context";
+  test::TempDir dir;
+  CityOptions options;
+  options.blocks_x = options.blocks_z = 3;
+  options.textures = true;
+  Progress quiet(true);
+  auto city = generate_city(options, quiet);
+  ASSERT_TRUE(city);
+  auto writer = SceneFileWriter::create(dir.file("c.ffscene"),
+                                        {city->vertices.size(), city->indices.size()}, 2000);
+  ASSERT_TRUE(writer);
+  ASSERT_TRUE(writer->append(*city));
+  ASSERT_TRUE(writer->finish(*city));
+  auto on_disk = ChunkedScene::open(dir.file("c.ffscene"));
+  ASSERT_TRUE(on_disk);
+  auto whole = gpu::Renderer::create(*city);
+  auto parts = gpu::Renderer::create(on_disk->index());
+  ASSERT_TRUE(whole && parts);
+  auto brute = make_technique("brute");
+  ASSERT_TRUE(test::load_technique(**brute, *city, whole->get()));
+  const Bounds3 b = city->bounds;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> x(b.min.x, b.max.x), z(b.min.z, b.max.z),
+      yaw(0.0f, 360.0f), pitch(-20.0f, 20.0f);
+  DrawList all;
+  for (int i = 0; i < 12; ++i) {
+    View view;
+    view.width = 160;
+    view.height = 120;
+    // At street level, seeing across the city through glass: many parts, both passes.
+    view.pose = {{x(rng), 1.9f, z(rng)}, yaw(rng), pitch(rng)};
+    (*whole)->set_offscreen(view.width, view.height);
+    (*parts)->set_offscreen(view.width, view.height);
+    test::select_view(**brute, view, all);
+    (*whole)->draw(view, all);
+    const Image reference = (*whole)->capture();
+    // A budget of a few chunks: the frame is drawn in many parts.
+    ASSERT_TRUE(draw_chunked_reference(**parts, *on_disk, view, 300000));
+    const ImageComparison c = compare_images(reference, (*parts)->capture());
+    EXPECT_TRUE(c.identical()) << "view " << i << ": " << c.differing_pixels
+                               << " pixels differ, PSNR " << c.psnr_db;
+  }
+}
+
 TEST(ChunkStreamGL, ADamagedChunkIsNamedWhileWalking) {
   auto context = gpu::create_headless_context();
   if (!context) GTEST_SKIP() << "no GL context";
@@ -144,6 +192,9 @@ TEST(ChunkStreamCliGL, BenchWalksASceneLeftOnDisk) {
   for (const char* field : {"\"cache_mb\": 64", "\"cache_hits\"", "\"cache_misses\"",
                             "\"bytes_read\"", "\"incomplete_frames\": 0.0"})
     EXPECT_NE(json.find(field), std::string::npos) << field << " in " << json;
+  // Brute's frames are compared with the reference drawn in parts: equal, as it waited.
+  EXPECT_TRUE(std::filesystem::exists(dir.file("b/brute_frame0000_reference.png")));
+  EXPECT_NE(json.find("\"identical_frames\": 1"), std::string::npos) << json;
   // What cannot walk a scene on disk is refused by name, before any frame.
   auto octree = test::run_farfield("bench " + scene + " --path " + path +
                                    " --cache-mb 64 -t octree -q --out " + dir.file("o"));

@@ -444,7 +444,7 @@ struct Renderer::State {
 
   // Binds the target, sets every piece of state the frame depends on (another user of the
   // context, such as an ImGui overlay, may have changed it), clears and starts the timer.
-  void begin_frame(const glm::mat4& view_projection, int width, int height) {
+  void begin_frame(const glm::mat4& view_projection, int width, int height, bool clear_first = true) {
     FF_ASSERT(framebuffer == 0 || (width == offscreen_width && height == offscreen_height),
               "view is %dx%d but the offscreen target is %dx%d", width, height, offscreen_width,
               offscreen_height);
@@ -470,8 +470,10 @@ struct Renderer::State {
     if (has_timer) glQueryCounter(timer[0], GL_TIMESTAMP);
     const float far_depth = 0.0f;
     const float clear[4] = {kSkyColor[0], kSkyColor[1], kSkyColor[2], clear_alpha};
-    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, clear);
-    glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &far_depth);
+    if (clear_first) {
+      glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, clear);
+      glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &far_depth);
+    }
     glUseProgram(program);
     glBindVertexArray(vao);
     for (GLuint p : {program, textured_scene_program})
@@ -734,7 +736,7 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
     glNamedBufferSubData(s.indirect_buffer, 0, GLsizeiptr(s.commands.size() * sizeof(DrawCommand)),
                          s.commands.data());
 
-  s.begin_frame(view_projection, width, height);
+  s.begin_frame(view_projection, width, height, !list.draw_over);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, s.indirect_buffer);
   s.draw_scene_batches(s.opaque_batches, list.tints);
   uint64_t calls = scene_commands + s.draw_meshes(view_projection, list);

@@ -165,6 +165,9 @@ struct DrawList {
   std::vector<TexturedQuad> backdrop;
   BackdropMode backdrop_mode = BackdropMode::far;
   std::vector<LineSegment> lines;
+  // Drawn over the last frame instead of clearing it first: a frame drawn in parts (the
+  // reference of a scene larger than the GPU's cache, eval/chunked_reference.hpp).
+  bool draw_over = false;
   // The frame time the technique expects this list to take (its cost model), ms; < 0: none.
   double predicted_ms = -1.0;
   // CPU time of the frame's occlusion culling (spatial/occlusion_map.hpp), ms; < 0: none.
@@ -190,6 +193,7 @@ struct DrawList {
     backdrop.clear();
     backdrop_mode = BackdropMode::far;
     lines.clear();
+    draw_over = false;
     predicted_ms = -1.0;
     occlusion_ms = -1.0;
     tints.clear();
