@@ -14,6 +14,7 @@ packages=(
   python3-matplotlib xvfb xauth
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev
+  libopenmpi-dev openmpi-bin
   chromium
 )
 

@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
+#include "farfield/core/mpi_world.hpp"
 #include "farfield/eval/bake_run.hpp"
 #include "farfield/scene/scene_file.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
@@ -38,7 +39,8 @@ void add_bake_command(CLI::App& root, std::vector<Command>& commands) {
                           return usage_error(d.error().message);
                         auto scene = read_scene(s->scene);
                         if (!scene) return fail(scene.error().message);
-                        Progress progress(s->quiet);
+                        // One rank shows progress.
+                        Progress progress(s->quiet || MpiWorld::get().rank() != 0);
                         auto baked = run_bake(*scene, s->technique, settings, s->out, progress);
                         progress.finish();
                         if (!baked) return fail(baked.error().message);

@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "commands.hpp"
+#include "farfield/core/mpi_world.hpp"
 
 namespace farfield::cli {
 
@@ -59,6 +60,11 @@ std::string command_names(const CLI::App& app) {
 
 int main(int argc, char** argv) {
   using namespace farfield::cli;
+  // Under mpirun, the MPI job (bakes spread over ranks); nothing of MPI otherwise.
+  if (auto ok = farfield::MpiWorld::start(&argc, &argv); !ok) return fail(ok.error().message);
+  struct LeaveMpi {
+    ~LeaveMpi() { farfield::MpiWorld::stop(); }
+  } leave_mpi;
   CLI::App app{
       "farfield: interactive walkthroughs of very large 3D environments.\n"
       "Import or generate a scene, inspect it; see README.md for the full workflow."};

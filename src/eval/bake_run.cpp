@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <optional>
 
+#include "farfield/core/mpi_world.hpp"
+#include "farfield/core/text.hpp"
 #include "farfield/eval/run_plan.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/renderer.hpp"
@@ -20,11 +22,18 @@ Result<BakeOutcome> bake_into(const Scene& scene, const TechniqueDescriptor& d,
   const auto start = std::chrono::steady_clock::now();
   auto technique = d.make(values, settings);
   if (!technique) return technique.error();
-  auto store = Store::open(pack, Store::Mode::kReadWrite);
-  if (!store) return store.error();
+  // Spread over the ranks of an MPI job: rank 0 bakes into the pack, the others their share
+  // into shards beside it (BakeShards).
+  const MpiWorld& world = MpiWorld::get();
+  const BakeShards shards{world.rank(), world.size(), pack};
+  const bool rank0 = world.rank() == 0;
+  auto opened = Store::open(rank0 ? pack : shards.shard(world.rank()), Store::Mode::kReadWrite);
+  if (!opened) return opened.error();
+  std::optional<Store> store;
+  store.emplace(std::move(*opened));
   std::unique_ptr<gpu::Context> context;
   std::unique_ptr<gpu::Renderer> renderer;
-  if (d.bake_renders) {
+  if (d.bake_renders && rank0) {
     auto made_context = gpu::create_headless_context();
     if (!made_context) return made_context.error();
     context = std::move(*made_context);
@@ -32,10 +41,25 @@ Result<BakeOutcome> bake_into(const Scene& scene, const TechniqueDescriptor& d,
     if (!made) return made.error();
     renderer = std::move(*made);
   }
-  if (auto ok = (*technique)->bake({scene, *store, renderer.get(), progress}); !ok)
+  if (auto ok = (*technique)->bake(
+          {scene, *store, renderer.get(), progress, world.distributed() ? &shards : nullptr});
+      !ok)
     return ok.error();
   BakeOutcome outcome;
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (world.distributed()) {
+    // Shards go once the pack holds everything; a rank waits for that, its shard closed.
+    if (!rank0) {
+      auto bytes = store->total_bytes(std::string(d.name) + "/");
+      if (!bytes) return bytes.error();
+      outcome.store_bytes = *bytes;
+      outcome.description = formatted("rank %d of %d: its share kept in %s", world.rank(),
+                                      world.size(), shards.shard(world.rank()).c_str());
+      store.reset();
+      world.barrier();
+      return outcome;
+    }
+  }
   BakeRecord record{
       std::string(d.name), d.bake_format, scene_fingerprint(scene), outcome.seconds, {}};
   for (const SettingSpec& s : d.settings)
@@ -45,6 +69,15 @@ Result<BakeOutcome> bake_into(const Scene& scene, const TechniqueDescriptor& d,
   if (!bytes) return bytes.error();
   outcome.store_bytes = *bytes;
   outcome.description = (*technique)->describe();
+  if (world.distributed()) {
+    world.barrier();
+    for (int r = 1; r < world.size(); ++r) {
+      std::error_code ec;
+      std::filesystem::remove(shards.shard(r), ec);
+      for (const char* side : {"-wal", "-shm", "-journal"})
+        std::filesystem::remove(shards.shard(r) + side, ec);
+    }
+  }
   return outcome;
 }
 
@@ -64,10 +97,13 @@ Result<BakeOutcome> run_bake(const Scene& scene, const std::string& technique,
       return make_error("--set ", assignment, "=", value, ": bake runs only ", technique);
   auto values = parse_settings(**d, settings);
   if (!values) return values.error();
+  if (MpiWorld::get().distributed() && !(*d)->distributes)
+    return make_error(technique, "'s bake does not spread over the ranks of an MPI job: run it "
+                      "without mpirun (techniques that do: clusters)");
   if (auto ok = check_writable_file(pack); !ok) return ok.error();
   const bool existed = std::filesystem::exists(pack);
   auto outcome = bake_into(scene, **d, *values, settings, pack, progress);
-  if (!outcome && !existed) {
+  if (!outcome && !existed && MpiWorld::get().rank() == 0) {
     std::error_code ec;
     std::filesystem::remove(pack, ec);
   }

@@ -76,12 +76,27 @@ struct LoadContext {
   uint64_t cache_bytes = 0;
 };
 
+// A bake spread over the ranks of an MPI job (mpirun -n N farfield bake ...; techniques whose
+// descriptor `distributes`): rank 0 bakes into the pack, rank R > 0 does its share of the work
+// (batch b is rank b % N's) into a shard beside the pack, PACK.rank-R, which rank 0 takes in
+// once every rank is done, then bakes the rest; shards go when the bake is saved. Each rank
+// keeps its work as it goes, so a job killed and run again redoes only unfinished work.
+struct BakeShards {
+  int rank = 0, size = 1;
+  std::string pack;  // the pack rank 0 bakes into
+  std::string shard(int r) const { return pack + ".rank-" + std::to_string(r); }
+  bool mine(size_t batch) const { return int(batch % size_t(size)) == rank; }
+};
+
 struct BakeContext {
   const Scene& scene;
-  Store& store;             // the technique writes its blobs in transactions of its own
+  Store& store;             // the technique writes its blobs in transactions of its own (a
+                            // shard on ranks other than 0)
   gpu::Renderer* renderer;  // a headless renderer of the scene for bakes that render
-                            // (TechniqueDescriptor::bake_renders), else null
+                            // (TechniqueDescriptor::bake_renders), else null (and on ranks
+                            // other than 0)
   Progress& progress;
+  const BakeShards* shards = nullptr;  // null: one process
 };
 
 class Technique {

@@ -83,6 +83,8 @@ struct TechniqueDescriptor {
   bool bake_renders = false;  // its bake draws the scene (BakeContext::renderer)
   // It walks a scene left on disk (LoadContext::on_disk: bench and view --cache-mb).
   bool streams = false;
+  // Its bake spreads over the ranks of an MPI job (BakeContext::shards).
+  bool distributes = false;
   // `info PACK`: lines on the technique's bake in the pack (viewcells per shell, ...).
   Result<std::string> (*describe_bake)(const Store& store) = nullptr;
   // The technique from its checked settings; `all` holds every --set, for techniques made of

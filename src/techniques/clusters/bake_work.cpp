@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
 
+#include "farfield/core/mpi_world.hpp"
 #include "farfield/core/parallel.hpp"
 #include "farfield/core/text.hpp"
 #include "farfield/store/store.hpp"
@@ -98,9 +100,11 @@ Result<std::vector<PartList>> decode_parts(std::span<const std::byte> bytes, siz
   return out;
 }
 
-Result<BakeWork> BakeWork::open(Store* store, const std::string& task, const std::string& plan) {
+Result<BakeWork> BakeWork::open(Store* store, const std::string& task, const std::string& plan,
+                                const BakeShards* shards) {
   const std::string prefix = std::string(kWork) + task + "/";
-  if (!store) return BakeWork(nullptr, prefix);
+  if (!store) return BakeWork(nullptr, prefix, nullptr);
+  if (shards && shards->size <= 1) shards = nullptr;
   const std::string plan_name = prefix + "plan";
   auto kept = store->contains(plan_name);
   if (!kept) return kept.error();
@@ -108,7 +112,7 @@ Result<BakeWork> BakeWork::open(Store* store, const std::string& task, const std
     auto bytes = store->get(plan_name);
     if (!bytes) return bytes.error();
     const std::string text(reinterpret_cast<const char*>(bytes->data()), bytes->size());
-    if (text == plan) return BakeWork(store, prefix);
+    if (text == plan) return BakeWork(store, prefix, shards);
   }
   // Another bake's work, or none: start afresh.
   auto transaction = store->begin();
@@ -117,7 +121,7 @@ Result<BakeWork> BakeWork::open(Store* store, const std::string& task, const std
   if (auto ok = store->put(plan_name, std::as_bytes(std::span(plan.data(), plan.size()))); !ok)
     return ok.error();
   if (auto ok = transaction->commit(); !ok) return ok.error();
-  return BakeWork(store, prefix);
+  return BakeWork(store, prefix, shards);
 }
 
 Result<std::vector<PartList>> BakeWork::run(const std::string& label, const std::string& noun,
@@ -130,6 +134,7 @@ Result<std::vector<PartList>> BakeWork::run(const std::string& label, const std:
   std::vector<size_t> todo;
   std::unique_ptr<std::atomic<uint32_t>[]> left(new std::atomic<uint32_t>[batches]);
   std::vector<bool> saved(batches, false);
+  size_t kept_items = 0;  // read from the store
   for (size_t b = 0; b < batches; ++b) {
     const size_t first = b * batch, end = std::min(count, first + batch);
     left[b].store(uint32_t(end - first));
@@ -145,14 +150,17 @@ Result<std::vector<PartList>> BakeWork::run(const std::string& label, const std:
         if (!items) return items.error();
         for (size_t k = first; k < end; ++k) results[order[k]] = std::move((*items)[k - first]);
         saved[b] = true;
+        kept_items += end - first;
         continue;
       }
     }
+    if (shards_ && !shards_->mine(b)) continue;  // another rank's
     for (size_t k = first; k < end; ++k) todo.push_back(k);
   }
-  if (todo.size() < count)
-    std::fprintf(stderr, "clusters: %zu of %zu %s already kept in the pack; continuing\n",
-                 count - todo.size(), count, noun.c_str());
+  if (kept_items > 0)
+    std::fprintf(stderr, "clusters: %s%zu of %zu %s already kept in the %s; continuing\n",
+                 shards_ ? formatted("rank %d: ", shards_->rank).c_str() : "", kept_items, count,
+                 noun.c_str(), shards_ && shards_->rank != 0 ? "shard" : "pack");
   std::optional<Error> failed;
   auto save_finished = [&]() -> bool {
     if (!store_) return true;
@@ -179,7 +187,46 @@ Result<std::vector<PartList>> BakeWork::run(const std::string& label, const std:
       },
       save_finished);
   if (failed) return *failed;
+  if (shards_) {
+    MpiWorld::get().barrier();  // every rank has kept its share
+    if (shards_->rank == 0)
+      if (auto ok = take_in_shards(batches, batch, count, order, saved, results); !ok)
+        return ok.error();
+  }
   return results;
+}
+
+// Rank 0: the batches not in the pack, from the shard of the rank that made them, copied into
+// the pack (one transaction a shard) so that a run after this one finds them there.
+Result<void> BakeWork::take_in_shards(size_t batches, size_t batch, size_t count,
+                                      const std::vector<uint32_t>& order,
+                                      std::vector<bool>& saved, std::vector<PartList>& results) {
+  for (int r = 1; r < shards_->size; ++r) {
+    const std::string path = shards_->shard(r);
+    std::optional<Store> shard;
+    auto transaction = store_->begin();
+    if (!transaction) return transaction.error();
+    for (size_t b = r; b < batches; b += size_t(shards_->size)) {
+      if (saved[b]) continue;
+      if (!shard) {
+        auto opened = Store::open(path, Store::Mode::kRead);
+        if (!opened) return make_error("rank ", std::to_string(r), "'s share: ", opened.error().message);
+        shard.emplace(std::move(*opened));
+      }
+      const std::string name = formatted("%s%06zu", prefix_.c_str(), b);
+      auto bytes = shard->get(name);
+      if (!bytes)
+        return make_error("rank ", std::to_string(r), "'s share: ", bytes.error().message);
+      const size_t first = b * batch, end = std::min(count, first + batch);
+      auto items = decode_parts(*bytes, end - first, path + ": clusters bake work '" + name + "'");
+      if (!items) return items.error();
+      if (auto ok = store_->put(name, *bytes); !ok) return ok;
+      for (size_t k = first; k < end; ++k) results[order[k]] = std::move((*items)[k - first]);
+      saved[b] = true;
+    }
+    if (auto ok = transaction->commit(); !ok) return ok;
+  }
+  return {};
 }
 
 Result<void> BakeWork::erase() {

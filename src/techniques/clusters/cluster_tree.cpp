@@ -181,7 +181,8 @@ ClusterTree build_cluster_cells(const Scene& scene, const ClusterTreeOptions& o)
 }
 
 Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOptions& o,
-                                       Progress& progress, Store* keep) {
+                                       Progress& progress, Store* keep,
+                                       const BakeShards* shards) {
   if (o.leaf_objects < 1 || o.cluster_triangles < 1 || o.max_depth < 0 || !(o.loose >= 0.0f))
     return make_error("cluster hierarchy options out of range");
   const auto start = std::chrono::steady_clock::now();
@@ -211,7 +212,8 @@ Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOpti
   auto work = BakeWork::open(keep, "clusters",
                              formatted("scene %016llx, %zu nodes, targets %016llx",
                                        (unsigned long long)scene_fingerprint(scene), node_count,
-                                       (unsigned long long)digest));
+                                       (unsigned long long)digest),
+                             shards);
   if (!work) return work.error();
   auto meshes = work->run("simplify clusters", "clusters", node_count, order, 8, o.threads,
                           progress, [&](uint32_t n) -> PartList {

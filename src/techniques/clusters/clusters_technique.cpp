@@ -199,6 +199,7 @@ const TechniqueDescriptor clusters_descriptor{
     .bake = BakeUse::optional,
     .bake_format = 5,
     .bake_renders = true,
+    .distributes = true,
     .make = [](const SettingValues& v,
                const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       ClustersOptions o;
@@ -249,10 +250,15 @@ size_t count_clusters(const ClusterTree& tree) {
 // Finished objects and clusters are kept in the pack as the bake goes (bake_work.hpp), so a
 // bake killed and run again redoes only the rest; the work goes once the bake is saved.
 Result<void> ClustersTechnique::bake(const BakeContext& context) {
-  auto lods = build_lod_set(context.scene, options_.lods, context.progress, &context.store);
+  auto lods = build_lod_set(context.scene, options_.lods, context.progress, &context.store,
+                            context.shards);
   if (!lods) return make_error("clusters: ", lods.error().message);
-  auto tree = build_cluster_tree(context.scene, options_.tree, context.progress, &context.store);
+  auto tree = build_cluster_tree(context.scene, options_.tree, context.progress, &context.store,
+                                 context.shards);
   if (!tree) return make_error("clusters: ", tree.error().message);
+  // Spread over ranks: the simplification was shared; the rest (boxes and tables, which
+  // render, and the final blobs) is rank 0's, from every rank's work.
+  if (context.shards && context.shards->rank != 0) return {};
   BoxSet boxes;
   if (options_.boxes && context.renderer) {
     auto baked =

@@ -45,7 +45,7 @@ std::vector<SimplifiedPart> lod_chain(const Scene& scene, uint32_t object, const
 }  // namespace
 
 Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progress& progress,
-                             Store* keep) {
+                             Store* keep, const BakeShards* shards) {
   if (o.max_levels < 1 || o.min_reduction <= 0 || o.min_reduction >= 1)
     return make_error("LOD chains need at least one level and a reduction in (0, 1)");
   const auto start = std::chrono::steady_clock::now();
@@ -53,7 +53,8 @@ Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progres
   auto work = BakeWork::open(keep, "lods",
                              formatted("scene %016llx, %d levels, %u triangles, reduction %.17g",
                                        (unsigned long long)scene_fingerprint(scene), o.max_levels,
-                                       o.min_triangles, o.min_reduction));
+                                       o.min_triangles, o.min_reduction),
+                             shards);
   if (!work) return work.error();
   // The objects with the most triangles first, so that the last to finish are small.
   std::vector<uint32_t> order(objects);

@@ -14,6 +14,7 @@
 #include "farfield/core/progress.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/scene/simplify.hpp"
+#include "farfield/techniques/technique.hpp"
 
 namespace farfield {
 
@@ -25,11 +26,16 @@ class BakeWork {
  public:
   // Without a store nothing is kept (a technique loaded without a pack makes its own).
   // `plan` describes the task's work; work of another plan in the store is erased.
-  static Result<BakeWork> open(Store* store, const std::string& task, const std::string& plan);
+  // `shards`: the bake is spread over ranks (technique.hpp): run() does this rank's batches,
+  // and on rank 0 takes in the others' from their shards.
+  static Result<BakeWork> open(Store* store, const std::string& task, const std::string& plan,
+                               const BakeShards* shards = nullptr);
 
   // work(item) for every item in [0, count), taken in `order` (a permutation: the costliest
   // first keeps the cores busy to the end); items of batches already in the store are read
-  // instead, and said ("N of M `noun` already kept"). Shows progress as `label`.
+  // instead, and said ("N of M `noun` already kept"). Shows progress as `label`. Spread over
+  // ranks: this rank's batches only; then, once every rank is done (a barrier), rank 0 takes
+  // the others' batches in from their shards and returns every item, other ranks their own.
   Result<std::vector<PartList>> run(const std::string& label, const std::string& noun, size_t count,
                                     const std::vector<uint32_t>& order, size_t batch, int threads,
                                     Progress& progress,
@@ -39,9 +45,14 @@ class BakeWork {
   Result<void> erase();
 
  private:
-  BakeWork(Store* store, std::string prefix) : store_(store), prefix_(std::move(prefix)) {}
+  BakeWork(Store* store, std::string prefix, const BakeShards* shards)
+      : store_(store), prefix_(std::move(prefix)), shards_(shards) {}
+  Result<void> take_in_shards(size_t batches, size_t batch, size_t count,
+                              const std::vector<uint32_t>& order, std::vector<bool>& saved,
+                              std::vector<PartList>& results);
   Store* store_;
   std::string prefix_;  // "clusters/work/TASK/"
+  const BakeShards* shards_ = nullptr;
 };
 
 // A batch's bytes and back (exposed for the fuzzer); reading refuses anything inconsistent

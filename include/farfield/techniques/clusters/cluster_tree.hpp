@@ -22,6 +22,7 @@
 namespace farfield {
 
 class Store;
+struct BakeShards;
 
 struct ClusterNode {
   Bounds3 bounds;                             // of the objects beneath it, children's included
@@ -73,7 +74,8 @@ ClusterTree build_cluster_cells(const Scene& scene, const ClusterTreeOptions& op
 // The cells and every cluster's mesh (clusters_triangles each, at most half of its objects').
 // `keep`: a pack where finished clusters are kept as the work goes (as build_lod_set's).
 Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOptions& options,
-                                       Progress& progress, Store* keep = nullptr);
+                                       Progress& progress, Store* keep = nullptr,
+                                       const BakeShards* shards = nullptr);
 
 // Blobs under "clusters/tree_*" and back, refusing a missing or inconsistent tree (children or
 // ranges past the arrays, objects not each of `scene` once, materials not of `scene`).

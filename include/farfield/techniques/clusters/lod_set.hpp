@@ -18,6 +18,7 @@
 namespace farfield {
 
 class Store;
+struct BakeShards;
 
 // One simplified version of an object: a range of LodSet::indices, its geometric error.
 struct Lod {
@@ -45,8 +46,9 @@ struct LodSet {
 
 // `keep`: a pack where finished chains are kept as the work goes, so that a bake killed and
 // run again redoes only the rest (bake_work.hpp); null: nothing kept.
+// `shards`: the bake is spread over ranks (technique.hpp); other ranks than 0 get their share.
 Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& options, Progress& progress,
-                             Store* keep = nullptr);
+                             Store* keep = nullptr, const BakeShards* shards = nullptr);
 
 // The levels' triangles laid out level by level, the objects of each level in `order` (the
 // hierarchy's), so that neighbouring objects drawn at the same level are one range of
