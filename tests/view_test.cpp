@@ -43,6 +43,22 @@ TEST(ViewGL, ShowsTheSceneInAWindowUnderXvfb) {
   auto played = read_camera_path(dir.file("p.json"));
   ASSERT_EQ(recorded->frames.size(), 6u);
   EXPECT_EQ(recorded->frames[3].position, played->frames[3].position);
+
+  // The geometry left on disk: brute streams it; a technique that needs it in memory is
+  // refused at start.
+  auto streamed = test::run_farfield("view " + dir.file("c.ffscene") + " --cache-mb 64 --path " +
+                                         dir.file("p.json") +
+                                         " --width 320 --height 240 --frames 8 --screenshot " +
+                                         dir.file("streamed.png"),
+                                     "", "xvfb-run " + xvfb);
+  ASSERT_EQ(streamed.exit_status, 0) << streamed.output;
+  EXPECT_NE(streamed.output.find("(brute,"), std::string::npos) << streamed.output;
+  auto refused = test::run_farfield("view " + dir.file("c.ffscene") +
+                                        " --cache-mb 64 -t octree --frames 2",
+                                    "", "xvfb-run " + xvfb);
+  EXPECT_EQ(refused.exit_status, 1) << refused.output;
+  EXPECT_NE(refused.output.find("octree cannot walk a scene left on disk"), std::string::npos)
+      << refused.output;
 }
 
 TEST(ViewGL, OpensInsideTheBakeWithoutAPath) {

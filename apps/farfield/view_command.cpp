@@ -20,6 +20,7 @@
 #include "farfield/gpu/lighting.hpp"
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/gpu/window.hpp"
+#include "farfield/scene/chunked_scene.hpp"
 #include "farfield/scene/path_generator.hpp"
 #include "farfield/scene/scene_file.hpp"
 #include "farfield/spatial/walking.hpp"
@@ -43,6 +44,8 @@ struct ViewSettings {
   bool orbit = false;            // start orbiting the scene's centre
   std::vector<float> light;      // heading, elevation
   std::vector<int> pick;         // x, y: pick this pixel once a frame is drawn
+  uint64_t cache_mb = 0;         // > 0: the geometry left on disk, through a cache this large
+  bool technique_given = false;
 };
 
 // What a click found: the object and triangle at a pixel.
@@ -100,9 +103,22 @@ NavigationSpeeds speeds_for(const Scene& scene) {
   return speeds;
 }
 
-int run_viewer(const ViewSettings& s) {
-  auto scene = read_scene(s.scene);
-  if (!scene) return fail(scene.error().message);
+int run_viewer(ViewSettings s) {
+  // With --cache-mb the geometry stays in the file and streaming techniques read what they
+  // draw; others are unavailable, and so are walking and picking, which need triangles.
+  std::optional<ChunkedScene> on_disk;
+  std::optional<Scene> in_memory;
+  if (s.cache_mb > 0) {
+    auto opened = ChunkedScene::open(s.scene);
+    if (!opened) return fail(opened.error().message);
+    on_disk.emplace(std::move(*opened));
+    if (!s.technique_given) s.technique = "brute";
+  } else {
+    auto read = read_scene(s.scene);
+    if (!read) return fail(read.error().message);
+    in_memory.emplace(std::move(*read));
+  }
+  const Scene* scene = on_disk ? &on_disk->index() : &*in_memory;
   CameraPath path;
   if (!s.path.empty()) {
     auto read = read_camera_path(s.path);
@@ -128,7 +144,8 @@ int run_viewer(const ViewSettings& s) {
     if (auto ok = settings.add(setting); !ok) return usage_error(ok.error().message);
   // Everything asked is checked before the window opens: the technique at start (its bake
   // included), every setting, and the files --record and --screenshot write.
-  auto plan = plan_run({s.technique}, settings, store ? &*store : nullptr, *scene, true);
+  auto plan = plan_run({s.technique}, settings, store ? &*store : nullptr, *scene, true,
+                       on_disk ? &*on_disk : nullptr);
   if (!plan) return fail(plan.error().message);
   if (!s.record.empty())
     if (auto ok = check_writable_file(s.record); !ok) return fail(ok.error().message);
@@ -164,7 +181,11 @@ int run_viewer(const ViewSettings& s) {
   Progress quiet(true);
   auto show = [&](size_t t) -> Result<void> {
     if (loaded[t]) return {};
-    if (auto ok = techniques[t]->load({*scene, store ? &*store : nullptr, **renderer, quiet}); !ok)
+    if (on_disk && !descriptors[t]->streams)
+      return make_error(descriptors[t]->name, " needs the scene in memory (drop --cache-mb)");
+    if (auto ok = techniques[t]->load({*scene, store ? &*store : nullptr, **renderer, quiet,
+                                       on_disk ? &*on_disk : nullptr, s.cache_mb * 1000000});
+        !ok)
       return ok;
     loaded[t] = true;
     return {};
@@ -193,7 +214,7 @@ int run_viewer(const ViewSettings& s) {
   // where there is ground within reach below; G flies freely.
   const RayCaster caster(*scene);
   const WalkOptions walk_options = walk_options_for(scene->bounds);
-  bool walking = true, g_was_down = false;
+  bool walking = !on_disk, g_was_down = false;
   const NavigationSpeeds speeds = speeds_for(*scene);
   // Orbiting (O): about the scene's centre, as ibr's and hybrid's viewpoints and path --kind
   // orbit are; entered through the eye where it stands.
@@ -238,7 +259,7 @@ int run_viewer(const ViewSettings& s) {
     if (tab && !tab_was_down && !typing) current = (current + 1) % techniques.size();
     if (p && !p_was_down && !typing && !path.frames.empty()) playing = !playing;
     if (b && !b_was_down && !typing) birdseye = !birdseye;
-    if (g && !g_was_down && !typing) walking = !walking;
+    if (g && !g_was_down && !typing && !on_disk) walking = !walking;
     if (c && !c_was_down && !typing) tinted = !tinted;
     if (o && !o_was_down && !typing) {
       orbiting = !orbiting;
@@ -422,7 +443,8 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_option("scene", s->scene, "A .ffscene file")->required();
   cmd->add_option("--path", s->path, "Camera path to play (P pauses and resumes)");
   cmd->add_option("--store", s->store, "A .ffpack from 'farfield bake' to load techniques from");
-  cmd->add_option("--technique,-t", s->technique, "Technique at start")->capture_default_str();
+  CLI::Option* technique =
+      cmd->add_option("--technique,-t", s->technique, "Technique at start")->capture_default_str();
   cmd->add_option("--set", s->settings,
                   "Technique setting TECHNIQUE.KEY=VALUE, repeatable (e.g. colorcube.depth=6)");
   cmd->add_option("--width", s->width, "Window width, pixels")
@@ -463,7 +485,16 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
                   "(with --screenshot, in the picture)")
       ->expected(2)
       ->delimiter(',');
-  commands.push_back({cmd, [s] { return run_viewer(*s); }});
+  cmd->add_option("--cache-mb", s->cache_mb,
+                  "Leave the scene's geometry in its file and walk it through a cache of this "
+                  "many MB of GPU meshes (techniques that stream: brute; flying only, no "
+                  "picking); 0: read the scene whole")
+      ->check(CLI::Range(uint64_t(0), uint64_t(1) << 20));
+  commands.push_back({cmd, [s, technique] {
+                        ViewSettings settings = *s;
+                        settings.technique_given = technique->count() > 0;
+                        return run_viewer(settings);
+                      }});
 }
 
 }  // namespace farfield::cli
