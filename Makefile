@@ -59,7 +59,7 @@ FUZZ_TARGETS = scene_file store camera_path bake_record cube_tree stratified_pac
 fuzz: deps
 	@cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_COMPILER=clang++-14 -DFARFIELD_FUZZ=ON -DFARFIELD_TESTS=OFF \
-	  -DFARFIELD_BENCH=OFF > /dev/null
+	  -DFARFIELD_BENCH=OFF -DFARFIELD_MPI=OFF > /dev/null
 	@cmake --build build-fuzz -j $(JOBS)
 	@for t in $(FUZZ_TARGETS); do \
 	  mkdir -p build-fuzz/corpus-$$t && \
