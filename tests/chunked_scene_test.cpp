@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <random>
 
+#include "farfield/core/camera_path.hpp"
 #include "farfield/core/progress.hpp"
 #include "farfield/scene/city_generator.hpp"
 #include "farfield/scene/scene_file_writer.hpp"
@@ -238,6 +239,25 @@ TEST(ChunkedScene, FilesWrittenBeforeChunksAreReadWhole) {
   ASSERT_TRUE(now) << now.error().message;
   EXPECT_EQ(now->fingerprint(), 0x894bed053fea1f6eull);
   EXPECT_EQ(now->triangle_count(), 632u);
+  // path reads the chunked one without its geometry: the same poses.
+  for (const std::string& kind : {"orbit", "fly"}) {
+    ASSERT_EQ(test::run_farfield("path " + v1 + " --kind " + kind + " --frames 20 --out " +
+                                 dir.file("old.json"))
+                  .exit_status,
+              0);
+    ASSERT_EQ(test::run_farfield("path " + dir.file("new.ffscene") + " --kind " + kind +
+                                 " --frames 20 --out " + dir.file("new.json"))
+                  .exit_status,
+              0);
+    auto old_path = read_camera_path(dir.file("old.json"));
+    auto new_path = read_camera_path(dir.file("new.json"));
+    ASSERT_TRUE(old_path && new_path);
+    ASSERT_EQ(old_path->frames.size(), new_path->frames.size());
+    for (size_t f = 0; f < old_path->frames.size(); ++f)
+      EXPECT_EQ(old_path->frames[f].position, new_path->frames[f].position) << kind << f;
+    std::filesystem::remove(dir.file("old.json"));
+    std::filesystem::remove(dir.file("new.json"));
+  }
   auto mixed = test::run_farfield("import " + v1 + " " + v1 + " --out " + dir.file("m.ffscene"));
   EXPECT_EQ(mixed.exit_status, 2) << mixed.output;
   auto scaled =

@@ -1,8 +1,10 @@
 // farfield path SCENE --kind street|fly|orbit|interior --frames N --out path.json
 #include <cstdio>
+#include <optional>
 #include <glm/geometric.hpp>
 
 #include "commands.hpp"
+#include "farfield/scene/chunked_scene.hpp"
 #include "farfield/core/camera_path.hpp"
 #include "farfield/scene/path_generator.hpp"
 #include "farfield/scene/scene_file.hpp"
@@ -39,10 +41,22 @@ void add_path_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_option("--out,-o", s->out, "Output path .json file")->required();
   commands.push_back(
       {cmd, [s] {
-         auto scene = read_scene(s->scene);
-         if (!scene) return fail(scene.error().message);
-         auto path = s->path.kind == "interior" ? interior_path(*scene, s->path)
-                                                : generate_path(*scene, s->path);
+         // Street, fly and orbit paths need the objects, not their triangles: a chunked file
+         // is read without its geometry (the 100M city's path in a second, not 36 s and
+         // 4.7 GB); interior paths walk on the triangles.
+         std::optional<ChunkedScene> on_disk;
+         std::optional<Scene> in_memory;
+         if (s->path.kind != "interior")
+           if (auto opened = ChunkedScene::open(s->scene); opened)
+             on_disk.emplace(std::move(*opened));
+         if (!on_disk) {
+           auto read = read_scene(s->scene);
+           if (!read) return fail(read.error().message);
+           in_memory.emplace(std::move(*read));
+         }
+         const Scene& scene = on_disk ? on_disk->index() : *in_memory;
+         auto path = s->path.kind == "interior" ? interior_path(scene, s->path)
+                                                : generate_path(scene, s->path);
          if (!path) {  // name the scene, unless it is an option that is wrong
            const std::string& message = path.error().message;
            return fail(message.starts_with("--") ? message : s->scene + ": " + message);
