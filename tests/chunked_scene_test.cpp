@@ -240,7 +240,7 @@ TEST(ChunkedScene, FilesWrittenBeforeChunksAreReadWhole) {
   EXPECT_EQ(now->fingerprint(), 0x894bed053fea1f6eull);
   EXPECT_EQ(now->triangle_count(), 632u);
   // path reads the chunked one without its geometry: the same poses.
-  for (const std::string& kind : {"orbit", "fly"}) {
+  for (const std::string kind : {"orbit", "fly"}) {
     ASSERT_EQ(test::run_farfield("path " + v1 + " --kind " + kind + " --frames 20 --out " +
                                  dir.file("old.json"))
                   .exit_status,
