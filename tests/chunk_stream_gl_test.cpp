@@ -26,38 +26,39 @@ double figure(const Technique& t, const std::string& name) {
   return -1;
 }
 
+Scene make_city(uint32_t blocks, bool textures) {
+  CityOptions options;
+  options.blocks_x = options.blocks_z = blocks;
+  options.textures = textures;  // texture coordinates spread per vertex on the way
+  Progress quiet(true);
+  auto scene = generate_city(options, quiet);
+  EXPECT_TRUE(scene) << scene.error().message;
+  return std::move(*scene);
+}
+
 TEST(ChunkStreamGL, SmallCacheEvictsAndLoadedFramesEqualBrute) {
   auto context = gpu::create_headless_context();
   if (!context) GTEST_SKIP() << "no GL context";
   test::TempDir dir;
-  CityOptions options;
-  options.blocks_x = options.blocks_z = 3;
-  options.textures = true;  // texture coordinates spread per vertex on the way
-  Progress quiet(true);
-  auto city = generate_city(options, quiet);
-  ASSERT_TRUE(city);
-  auto writer = SceneFileWriter::create(dir.file("c.ffscene"),
-                                        {city->vertices.size(), city->indices.size()}, 3000);
-  ASSERT_TRUE(writer);
-  ASSERT_TRUE(writer->append(*city));
-  ASSERT_TRUE(writer->finish(*city));
+  const Scene city = make_city(3, true);
+  ASSERT_TRUE(test::write_in_chunks(city, dir.file("c.ffscene"), 3000));
   auto on_disk = ChunkedScene::open(dir.file("c.ffscene"));
   ASSERT_TRUE(on_disk) << on_disk.error().message;
   uint64_t scene_bytes = 0;
   for (const SceneChunk& k : on_disk->chunks()) scene_bytes += k.byte_size();
   ASSERT_GT(on_disk->chunks().size(), 20u);
 
-  auto whole = gpu::Renderer::create(*city);
+  auto whole = gpu::Renderer::create(city);
   auto streamed = gpu::Renderer::create(on_disk->index());
   ASSERT_TRUE(whole && streamed);
   auto brute = make_technique("brute");
   auto walker = make_technique("brute", test::settings_of({"brute.wait=1"}));
-  ASSERT_TRUE(test::load_technique(**brute, *city, whole->get()));
+  ASSERT_TRUE(test::load_technique(**brute, city, whole->get()));
   Progress silent(true);
   const uint64_t cache = scene_bytes / 4;
   ASSERT_TRUE((*walker)->load({on_disk->index(), nullptr, **streamed, silent, &*on_disk, cache}));
 
-  const Bounds3 b = city->bounds;
+  const Bounds3 b = city.bounds;
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> x(b.min.x, b.max.x), z(b.min.z, b.max.z),
       height(40.0f, 90.0f), yaw(0.0f, 360.0f);
@@ -94,25 +95,16 @@ TEST(ChunkStreamGL, PartsMakeBruteForcesFrame) {
   auto context = gpu::create_headless_context();
   if (!context) GTEST_SKIP() << "no GL context";
   test::TempDir dir;
-  CityOptions options;
-  options.blocks_x = options.blocks_z = 3;
-  options.textures = true;
-  Progress quiet(true);
-  auto city = generate_city(options, quiet);
-  ASSERT_TRUE(city);
-  auto writer = SceneFileWriter::create(dir.file("c.ffscene"),
-                                        {city->vertices.size(), city->indices.size()}, 2000);
-  ASSERT_TRUE(writer);
-  ASSERT_TRUE(writer->append(*city));
-  ASSERT_TRUE(writer->finish(*city));
+  const Scene city = make_city(3, true);
+  ASSERT_TRUE(test::write_in_chunks(city, dir.file("c.ffscene"), 2000));
   auto on_disk = ChunkedScene::open(dir.file("c.ffscene"));
   ASSERT_TRUE(on_disk);
-  auto whole = gpu::Renderer::create(*city);
+  auto whole = gpu::Renderer::create(city);
   auto parts = gpu::Renderer::create(on_disk->index());
   ASSERT_TRUE(whole && parts);
   auto brute = make_technique("brute");
-  ASSERT_TRUE(test::load_technique(**brute, *city, whole->get()));
-  const Bounds3 b = city->bounds;
+  ASSERT_TRUE(test::load_technique(**brute, city, whole->get()));
+  const Bounds3 b = city.bounds;
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> x(b.min.x, b.max.x), z(b.min.z, b.max.z),
       yaw(0.0f, 360.0f), pitch(-20.0f, 20.0f);
@@ -140,14 +132,10 @@ TEST(ChunkStreamGL, ADamagedChunkIsNamedWhileWalking) {
   auto context = gpu::create_headless_context();
   if (!context) GTEST_SKIP() << "no GL context";
   test::TempDir dir;
-  CityOptions options;
-  options.blocks_x = options.blocks_z = 2;
-  Progress quiet(true);
-  auto city = generate_city(options, quiet);
-  ASSERT_TRUE(city);
-  ASSERT_TRUE(write_scene(*city, dir.file("c.ffscene")));
+  const Scene city = make_city(2, false);
+  ASSERT_TRUE(write_scene(city, dir.file("c.ffscene")));
   std::string bytes = test::read_file(dir.file("c.ffscene"));
-  const char* vertex = reinterpret_cast<const char*>(&city->vertices[10]);
+  const char* vertex = reinterpret_cast<const char*>(&city.vertices[10]);
   const size_t at = bytes.find(std::string(vertex, sizeof(Vertex)));
   ASSERT_NE(at, std::string::npos);
   bytes[at + 2] ^= 4;
@@ -162,7 +150,7 @@ TEST(ChunkStreamGL, ADamagedChunkIsNamedWhileWalking) {
   View view;
   view.width = 64;
   view.height = 48;
-  view.pose = {city->bounds.center() + glm::vec3(0, 300, 0), 0.0f, -89.0f};
+  view.pose = {city.bounds.center() + glm::vec3(0, 300, 0), 0.0f, -89.0f};
   DrawList list;
   test::select_view(**walker, view, list);
   EXPECT_NE((*walker)->failure().find("chunk 0 (objects 0 to"), std::string::npos)

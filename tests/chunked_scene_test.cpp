@@ -100,11 +100,7 @@ TEST(ChunkedScene, ChunksCoverTheSceneWithinTheirBudget) {
   TempDir dir;
   const Scene scene = city(true);
   constexpr uint32_t kBudget = 5000;
-  auto writer = SceneFileWriter::create(dir.file("c.ffscene"),
-                                        {scene.vertices.size(), scene.indices.size()}, kBudget);
-  ASSERT_TRUE(writer);
-  ASSERT_TRUE(writer->append(scene));
-  ASSERT_TRUE(writer->finish(scene, scene_fingerprint(scene)));
+  ASSERT_TRUE(test::write_in_chunks(scene, dir.file("c.ffscene"), kBudget));
   auto chunked = ChunkedScene::open(dir.file("c.ffscene"));
   ASSERT_TRUE(chunked) << chunked.error().message;
   EXPECT_EQ(chunked->fingerprint(), scene_fingerprint(scene));
@@ -152,11 +148,7 @@ TEST(ChunkedScene, ObjectsOutOfOrderMakeOneChunk) {
   Scene scene = test::make_box_row(4);
   std::reverse(scene.objects.begin(), scene.objects.end());  // geometry stays where it was
   ASSERT_EQ(validate_scene(scene), "");
-  auto writer = SceneFileWriter::create(dir.file("r.ffscene"),
-                                        {scene.vertices.size(), scene.indices.size()}, 1);
-  ASSERT_TRUE(writer);
-  ASSERT_TRUE(writer->append(scene));
-  ASSERT_TRUE(writer->finish(scene));
+  ASSERT_TRUE(test::write_in_chunks(scene, dir.file("r.ffscene"), 1));
   auto chunked = ChunkedScene::open(dir.file("r.ffscene"));
   ASSERT_TRUE(chunked) << chunked.error().message;
   ASSERT_EQ(chunked->chunks().size(), 1u);
@@ -170,10 +162,7 @@ TEST(ChunkedScene, NamesATruncatedOrCorruptedChunk) {
   TempDir dir;
   const Scene scene = city(false);
   const std::string path = dir.file("c.ffscene");
-  auto writer = SceneFileWriter::create(path, {scene.vertices.size(), scene.indices.size()}, 4000);
-  ASSERT_TRUE(writer);
-  ASSERT_TRUE(writer->append(scene));
-  ASSERT_TRUE(writer->finish(scene));
+  ASSERT_TRUE(test::write_in_chunks(scene, path, 4000));
   const std::string bytes = test::read_file(path);
 
   // A vertex of chunk 2 damaged: chunk 2 is refused by name, its neighbours still read.

@@ -12,8 +12,11 @@
 #include <sstream>
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
 #include "farfield/core/assert.hpp"
 #include "farfield/core/image.hpp"
+#include "farfield/scene/scene_file_writer.hpp"
 
 namespace farfield::test {
 
@@ -155,6 +158,18 @@ int spawn_farfield(const std::vector<std::string>& args) {
   dup2(devnull, 2);
   execv(FARFIELD_EXE, argv.data());
   _exit(127);
+}
+
+bool write_in_chunks(const Scene& scene, const std::string& path, uint32_t chunk_triangles) {
+  auto writer =
+      SceneFileWriter::create(path, {scene.vertices.size(), scene.indices.size()}, chunk_triangles);
+  Result<void> ok = writer ? writer->append(scene) : Result<void>(writer.error());
+  if (ok) {
+    auto finished = writer->finish(scene);
+    if (!finished) ok = finished.error();
+  }
+  EXPECT_TRUE(ok) << (ok ? "" : ok.error().message);
+  return bool(ok);
 }
 
 void write_file(const std::string& path, const std::string& bytes) {

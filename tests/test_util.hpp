@@ -63,6 +63,10 @@ int spawn_farfield(const std::vector<std::string>& args);
 
 void write_file(const std::string& path, const std::string& bytes);
 
+// `scene` written to `path` in chunks of at most `chunk_triangles` (SceneFileWriter), its
+// fingerprint read back from the file; false (with a test failure) where that fails.
+bool write_in_chunks(const Scene& scene, const std::string& path, uint32_t chunk_triangles);
+
 // `count` random points on the triangles of `mesh` (uniform over triangles, then area).
 std::vector<glm::vec3> random_surface_points(const MeshPart& mesh, int count, uint32_t seed);
 

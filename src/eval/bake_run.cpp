@@ -47,18 +47,16 @@ Result<BakeOutcome> bake_into(const Scene& scene, const TechniqueDescriptor& d,
     return ok.error();
   BakeOutcome outcome;
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (world.distributed()) {
-    // Shards go once the pack holds everything; a rank waits for that, its shard closed.
-    if (!rank0) {
-      auto bytes = store->total_bytes(std::string(d.name) + "/");
-      if (!bytes) return bytes.error();
-      outcome.store_bytes = *bytes;
-      outcome.description = formatted("rank %d of %d: its share kept in %s", world.rank(),
-                                      world.size(), shards.shard(world.rank()).c_str());
-      store.reset();
-      world.barrier();
-      return outcome;
-    }
+  if (!rank0) {
+    // Shards go once the pack holds everything; this rank waits for that, its shard closed.
+    auto bytes = store->total_bytes(std::string(d.name) + "/");
+    if (!bytes) return bytes.error();
+    outcome.store_bytes = *bytes;
+    outcome.description = formatted("rank %d of %d: its share kept in %s", world.rank(),
+                                    world.size(), shards.shard(world.rank()).c_str());
+    store.reset();
+    world.barrier();
+    return outcome;
   }
   BakeRecord record{
       std::string(d.name), d.bake_format, scene_fingerprint(scene), outcome.seconds, {}};

@@ -10,23 +10,6 @@ namespace farfield {
 
 namespace {
 
-// The ranges of chunk `c`'s objects that are (or are not) semi-transparent, drawn from `mesh`.
-void add_ranges(const ChunkedScene& scene, uint32_t c, MeshHandle mesh, bool transparent,
-                std::vector<DrawRange>& out) {
-  const Scene& index = scene.index();
-  const SceneChunk& k = scene.chunks()[c];
-  for (uint32_t o = k.first_object; o < k.first_object + k.object_count; ++o) {
-    const Object& object = index.objects[o];
-    if (index.materials[object.material].transparent() != transparent) continue;
-    const uint32_t first = object.first_index - k.first_index;
-    if (!out.empty() && out.back().mesh == mesh && out.back().material == object.material &&
-        out.back().first_index + out.back().index_count == first)
-      out.back().index_count += object.index_count;
-    else
-      out.push_back({first, object.index_count, object.material, mesh});
-  }
-}
-
 bool has_transparent(const ChunkedScene& scene, uint32_t c) {
   const Scene& index = scene.index();
   const SceneChunk& k = scene.chunks()[c];
@@ -41,13 +24,8 @@ Result<void> draw_chunked_reference(gpu::Renderer& renderer, const ChunkedScene&
                                     const View& view, uint64_t budget_bytes) {
   const Frustum frustum(view);
   std::vector<uint32_t> visible;
-  for (uint32_t c = 0; c < scene.chunks().size(); ++c) {
-    const SceneChunk& k = scene.chunks()[c];
-    Bounds3 b;
-    for (uint32_t o = k.first_object; o < k.first_object + k.object_count; ++o)
-      b.expand(scene.index().objects[o].bounds);
-    if (frustum.classify(b) != Visibility::none) visible.push_back(c);
-  }
+  for (uint32_t c = 0; c < scene.chunks().size(); ++c)
+    if (frustum.classify(scene.chunk_bounds(c)) != Visibility::none) visible.push_back(c);
   DrawList list;
   bool drawn = false;
   // One pass over the chunks for the opaque objects, one for the semi-transparent ones.
@@ -75,7 +53,10 @@ Result<void> draw_chunked_reference(gpu::Renderer& renderer, const ChunkedScene&
         }
         meshes.push_back(*mesh);
         bytes += (*data)->byte_size();
-        add_ranges(scene, c, *mesh, transparent, transparent ? list.transparent : list.opaque);
+        const SceneChunk& k = scene.chunks()[c];
+        add_chunk_ranges(scene, c, k.first_object, k.first_object + k.object_count, *mesh,
+                         transparent ? nullptr : &list.opaque,
+                         transparent ? &list.transparent : nullptr);
       }
       if (ok) renderer.draw(view, list);
       for (MeshHandle m : meshes) renderer.free(m);

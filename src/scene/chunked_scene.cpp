@@ -61,6 +61,11 @@ Result<ChunkedScene> ChunkedScene::open(const std::string& path) {
   if (XXH3_64bits(&scene.fingerprint_, sizeof(uint64_t)) != table->found[kFingerprint]->checksum)
     return corrupted(path, "fingerprint section checksum mismatch");
   scene.chunks_ = std::move(*chunks);
+  for (const SceneChunk& k : scene.chunks_) {
+    Bounds3& b = scene.chunk_bounds_.emplace_back();
+    for (uint32_t o = k.first_object; o < k.first_object + k.object_count; ++o)
+      b.expand(scene.index_.objects[o].bounds);
+  }
   scene.offset_[0] = table->found[kVertices]->offset;
   scene.offset_[1] = table->found[kIndices]->offset;
   scene.offset_[2] = table->found[kUvs] ? table->found[kUvs]->offset : 0;

@@ -69,11 +69,8 @@ Result<Scene> read_v2(const char* head, uint64_t file_size, const std::string& n
     return ok.error();
   if (auto ok = read_geometry_array(scene.uvs, found[kUvs], kUvs, name, verify, read); !ok)
     return ok.error();
-  // The chunk table is checked here too, so that a file whose chunks lie is refused whole.
-  if (std::string problem = validate_scene_index(scene, scene.vertices.size(),
-                                                 scene.indices.size(), scene.uvs.size());
-      !problem.empty())
-    return make_error(name, ": invalid .ffscene contents (", problem, ")");
+  // The chunk table is checked here too, so that a file whose chunks lie is refused whole
+  // (read_any checks the rest of the scene).
   auto chunk_table = read_chunk_table(*table, scene, name, verify, read);
   if (!chunk_table) return chunk_table.error();
   *chunks = chunk_table->size();

@@ -25,18 +25,32 @@ Result<std::shared_ptr<const SceneMeshData>> read_chunk_mesh(const ChunkedScene&
   return std::shared_ptr<const SceneMeshData>(std::move(mesh));
 }
 
+void add_chunk_ranges(const ChunkedScene& scene, uint32_t chunk, uint32_t first_object,
+                      uint32_t end_object, MeshHandle mesh, std::vector<DrawRange>* opaque,
+                      std::vector<DrawRange>* transparent) {
+  const Scene& index = scene.index();
+  const SceneChunk& k = scene.chunks()[chunk];
+  for (uint32_t o = first_object; o < end_object; ++o) {
+    const Object& object = index.objects[o];
+    auto* ranges = index.materials[object.material].transparent() ? transparent : opaque;
+    if (!ranges || object.index_count == 0) continue;
+    const uint32_t first = object.first_index - k.first_index;
+    if (!ranges->empty() && ranges->back().mesh == mesh &&
+        ranges->back().material == object.material &&
+        ranges->back().first_index + ranges->back().index_count == first)
+      ranges->back().index_count += object.index_count;
+    else
+      ranges->push_back({first, object.index_count, object.material, mesh});
+  }
+}
+
 Result<std::unique_ptr<ChunkStream>> ChunkStream::create(const ChunkedScene& scene,
                                                          gpu::Device& device,
                                                          uint64_t budget_bytes) {
   std::unique_ptr<ChunkStream> stream(new ChunkStream(scene));
   uint64_t smallest = UINT64_MAX;
-  for (const SceneChunk& k : scene.chunks()) {
-    Bounds3 b;
-    for (uint32_t o = k.first_object; o < k.first_object + k.object_count; ++o)
-      b.expand(scene.index().objects[o].bounds);
-    stream->bounds_.push_back(b);
+  for (const SceneChunk& k : scene.chunks())
     smallest = std::min(smallest, std::max<uint64_t>(k.byte_size(), 1));
-  }
   // As many meshes as chunks could be resident at once, within reason.
   const uint64_t meshes = std::clamp<uint64_t>(
       smallest == UINT64_MAX ? 1 : budget_bytes / smallest + 1, 1,
@@ -49,36 +63,20 @@ Result<std::unique_ptr<ChunkStream>> ChunkStream::create(const ChunkedScene& sce
   return stream;
 }
 
-void ChunkStream::push(uint32_t first_object, uint32_t end_object, MeshHandle mesh,
-                       DrawList& out) const {
-  const Scene& index = scene_.index();
-  const SceneChunk& k = scene_.chunks()[scene_.chunk_of(first_object)];
-  for (uint32_t o = first_object; o < end_object; ++o) {
-    const Object& object = index.objects[o];
-    if (object.index_count == 0) continue;
-    auto& ranges = index.materials[object.material].transparent() ? out.transparent : out.opaque;
-    const uint32_t first = object.first_index - k.first_index;
-    if (!ranges.empty() && ranges.back().mesh == mesh &&
-        ranges.back().material == object.material &&
-        ranges.back().first_index + ranges.back().index_count == first)
-      ranges.back().index_count += object.index_count;
-    else
-      ranges.push_back({first, object.index_count, object.material, mesh});
-  }
-}
-
 bool ChunkStream::draw_chunk(uint32_t chunk, float priority, DrawList& out) {
   const auto mesh = pool_->want(chunk, priority);
   if (!mesh) return false;
   const SceneChunk& k = scene_.chunks()[chunk];
-  push(k.first_object, k.first_object + k.object_count, *mesh, out);
+  add_chunk_ranges(scene_, chunk, k.first_object, k.first_object + k.object_count, *mesh,
+                   &out.opaque, &out.transparent);
   return true;
 }
 
 bool ChunkStream::draw_object(uint32_t object, float priority, DrawList& out) {
-  const auto mesh = pool_->want(scene_.chunk_of(object), priority);
+  const uint32_t chunk = scene_.chunk_of(object);
+  const auto mesh = pool_->want(chunk, priority);
   if (!mesh) return false;
-  push(object, object + 1, *mesh, out);
+  add_chunk_ranges(scene_, chunk, object, object + 1, *mesh, &out.opaque, &out.transparent);
   return true;
 }
 

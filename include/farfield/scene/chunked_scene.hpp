@@ -46,6 +46,8 @@ class ChunkedScene {
   uint64_t fingerprint() const { return fingerprint_; }
   // The chunk that holds `object`.
   uint32_t chunk_of(uint32_t object) const;
+  // The bounds of chunk `c`'s objects.
+  const Bounds3& chunk_bounds(size_t c) const { return chunk_bounds_[c]; }
 
   // Reads chunk `c`, checks it against its checksum and the scene's invariants, and counts its
   // indices from its first vertex. An error names the file and the chunk (its objects).
@@ -58,6 +60,7 @@ class ChunkedScene {
   SceneFileInfo file_;
   Scene index_;
   std::vector<SceneChunk> chunks_;
+  std::vector<Bounds3> chunk_bounds_;
   uint64_t vertex_count_ = 0, index_count_ = 0, uv_count_ = 0;
   uint64_t offset_[3] = {0, 0, 0};  // of the vertices, indices and uvs sections
   uint64_t fingerprint_ = 0;

@@ -10,7 +10,6 @@
 #include <memory>
 #include <vector>
 
-#include "farfield/core/bounds.hpp"
 #include "farfield/gpu/device.hpp"
 #include "farfield/gpu/draw_list.hpp"
 #include "farfield/gpu/mesh_pool.hpp"
@@ -25,8 +24,6 @@ class ChunkStream {
                                                      gpu::Device& device, uint64_t budget_bytes);
 
   const ChunkedScene& scene() const { return scene_; }
-  size_t chunk_count() const { return bounds_.size(); }
-  const Bounds3& bounds(size_t chunk) const { return bounds_[chunk]; }
 
   // Wants chunk `chunk` (higher priority loads first); when it is resident, appends all its
   // objects to `out` and returns true.
@@ -41,12 +38,18 @@ class ChunkStream {
 
  private:
   explicit ChunkStream(const ChunkedScene& scene) : scene_(scene) {}
-  void push(uint32_t first_object, uint32_t end_object, MeshHandle mesh, DrawList& out) const;
 
   const ChunkedScene& scene_;
-  std::vector<Bounds3> bounds_;  // per chunk, of its objects
   std::unique_ptr<gpu::MeshPool> pool_;
 };
+
+// Appends the draw ranges of objects [first_object, end_object) of chunk `chunk`, drawn from
+// `mesh` (the chunk's geometry, read_chunk_mesh), in scene order, neighbours of one material one
+// range: the opaque ones to `opaque` and the semi-transparent ones to `transparent`, either
+// left out where null.
+void add_chunk_ranges(const ChunkedScene& scene, uint32_t chunk, uint32_t first_object,
+                      uint32_t end_object, MeshHandle mesh, std::vector<DrawRange>* opaque,
+                      std::vector<DrawRange>* transparent);
 
 // The chunk's geometry as a scene mesh: indices from its first vertex, texture coordinates one
 // per vertex (zeros for untextured objects) where it has any.

@@ -70,8 +70,9 @@ void BruteTechnique::select_streamed(const FrameInput& input, DrawList& out) {
   const size_t first_opaque = out.opaque.size(), first_transparent = out.transparent.size();
   uint64_t fewest = UINT64_MAX;
   for (int stalled = 0;;) {
-    for (uint32_t c = 0; c < stream_->chunk_count(); ++c) {
-      const Bounds3& b = stream_->bounds(c);
+    const ChunkedScene& scene = stream_->scene();
+    for (uint32_t c = 0; c < scene.chunks().size(); ++c) {
+      const Bounds3& b = scene.chunk_bounds(c);
       if (input.region.kind == Region::Kind::near && !meet(b, input.region.box)) continue;
       if (frustum.classify(b) == Visibility::none) continue;
       stream_->draw_chunk(c, -distance_to(b, eye), out);
