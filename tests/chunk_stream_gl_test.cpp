@@ -19,13 +19,6 @@
 namespace farfield {
 namespace {
 
-double figure(const Technique& t, const std::string& name) {
-  for (const auto& [key, value] : t.figures())
-    if (key == name) return value;
-  ADD_FAILURE() << "no figure " << name;
-  return -1;
-}
-
 Scene make_city(uint32_t blocks, bool textures) {
   CityOptions options;
   options.blocks_x = options.blocks_z = blocks;
@@ -75,19 +68,19 @@ TEST(ChunkStreamGL, SmallCacheEvictsAndLoadedFramesEqualBrute) {
     test::select_view(**brute, view, all);
     (*whole)->draw(view, all);
     const Image reference = (*whole)->capture();
-    const double incomplete = figure(**walker, "incomplete_frames");
+    const double incomplete = test::figure(**walker, "incomplete_frames");
     test::select_view(**walker, view, list, uint64_t(i));
     (*streamed)->draw(view, list);
     const Image image = (*streamed)->capture();
-    if (figure(**walker, "incomplete_frames") > incomplete) continue;  // more than the cache
+    if (test::figure(**walker, "incomplete_frames") > incomplete) continue;  // more than the cache
     ++complete;
     const ImageComparison c = compare_images(reference, image);
     EXPECT_TRUE(c.identical()) << "view " << i << ": " << c.differing_pixels
                                << " pixels differ, PSNR " << c.psnr_db;
   }
   EXPECT_GE(complete, 20);
-  EXPECT_GT(figure(**walker, "cache_evictions"), 0) << "the cache was small enough to evict";
-  EXPECT_LE(figure(**walker, "cache_peak_mb") * 1e6, double(cache));
+  EXPECT_GT(test::figure(**walker, "cache_evictions"), 0) << "the cache was small enough to evict";
+  EXPECT_LE(test::figure(**walker, "cache_peak_mb") * 1e6, double(cache));
   EXPECT_EQ((*walker)->failure(), "");
 }
 

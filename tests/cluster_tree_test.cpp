@@ -197,6 +197,22 @@ TEST(ClusterTree, KeptInAPackAndRefusedWhenDamaged) {
   EXPECT_EQ(back->objects, tree.objects);
   EXPECT_TRUE(test::same_bytes(back->parts, tree.parts));
   EXPECT_EQ(back->indices, tree.indices);
+  EXPECT_EQ(back->node_page, tree.node_page);
+  ASSERT_EQ(back->pages.size(), tree.pages.size());
+  // Page 0 the root's cluster, then each node's children's, breadth first.
+  uint32_t pages = 1;
+  EXPECT_EQ(tree.node_page[0], 0u);
+  for (const ClusterNode& node : tree.nodes)
+    if (node.child_count > 0) {
+      for (uint32_t c = 0; c < node.child_count; ++c)
+        EXPECT_EQ(tree.node_page[node.first_child + c], pages);
+      ++pages;
+    }
+  EXPECT_EQ(pages, tree.pages.size());
+  for (size_t n = 0; n < tree.nodes.size(); ++n)
+    for (uint32_t p = tree.nodes[n].parts_begin; p < tree.nodes[n].parts_end; ++p)
+      EXPECT_TRUE(tree.pages[tree.node_page[n]].holds(tree.parts[p].first_index,
+                                                      tree.parts[p].index_count));
   EXPECT_FALSE(load_cluster_tree(*store, test::make_box_row(2)));  // another scene's
   auto refused = [&](const char* blob, auto records, const char* why) {
     ASSERT_TRUE(store->put(blob, std::as_bytes(std::span(records))));
@@ -221,6 +237,12 @@ TEST(ClusterTree, KeptInAPackAndRefusedWhenDamaged) {
   std::vector<ClusterPart> parts = tree.parts;
   parts[0].material = uint32_t(scene.materials.size());
   refused("clusters/tree_parts", parts, "a cluster's mesh");
+  // A root's mesh moved into the last page: outside its own.
+  parts = tree.parts;
+  ASSERT_TRUE(tree.nodes[0].clustered() && tree.pages.size() > 2);
+  parts[tree.nodes[0].parts_begin].first_index = tree.pages.back().first_index;
+  parts[tree.nodes[0].parts_begin].index_count = 3;
+  refused("clusters/tree_parts", parts, "outside its page");
 }
 
 // A view of the small city from a corner, looking in along its diagonal.

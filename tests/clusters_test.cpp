@@ -2,6 +2,8 @@
 // kept in a pack, chosen by projected error.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <filesystem>
 
 #include "farfield/core/assert.hpp"
@@ -55,32 +57,51 @@ TEST(LodSet, ChainsHaveFewerTrianglesAndGrowingErrors) {
   EXPECT_FALSE(build_lod_set(scene, bad, quiet));
 }
 
-// Laid out level by level in another order of the objects, every level keeps its triangles,
-// and the objects' levels of one rank follow each other in that order.
-TEST(LodSet, OrderedByLevelKeepsEveryLevelsTriangles) {
+// Paged again in another order of the objects, every level keeps its triangles (the same
+// corners), each lies in its page, the pages follow each other, and a group's levels of one
+// rank are one page, in that order.
+TEST(LodSet, PagedInAnotherOrderKeepsEveryLevelsTriangles) {
   const Scene scene = small_tree();
   Progress quiet(true);
   auto set = build_lod_set(scene, {}, quiet);
   ASSERT_TRUE(set);
-  LodSet ordered = *set;
+  ASSERT_FALSE(set->pages.empty());
+  LodSet paged = *set;
   std::vector<uint32_t> order(scene.objects.size());
   for (uint32_t i = 0; i < order.size(); ++i) order[i] = uint32_t(order.size()) - 1 - i;
-  order_lods_by_level(ordered, order);
-  ASSERT_EQ(ordered.indices.size(), set->indices.size());
+  page_lods(paged, order, 200);  // small pages: several groups
+  ASSERT_EQ(paged.indices.size(), set->indices.size());
+  ASSERT_EQ(paged.lod_page.size(), paged.lods.size());
   for (size_t k = 0; k < set->lods.size(); ++k) {
-    const Lod &a = set->lods[k], &b = ordered.lods[k];
+    const Lod &a = set->lods[k], &b = paged.lods[k];
     ASSERT_EQ(a.index_count, b.index_count);
-    EXPECT_TRUE(std::equal(set->indices.begin() + a.first_index,
-                           set->indices.begin() + a.first_index + a.index_count,
-                           ordered.indices.begin() + b.first_index));
+    for (uint32_t i = 0; i < a.index_count; ++i)
+      ASSERT_EQ(set->vertices[set->indices[a.first_index + i]].position,
+                paged.vertices[paged.indices[b.first_index + i]].position);
+    const MeshPage& page = paged.pages[paged.lod_page[k]];
+    EXPECT_TRUE(page.holds(b.first_index, b.index_count));
+    for (uint32_t i = 0; i < b.index_count; ++i) {
+      const uint32_t v = paged.indices[b.first_index + i];
+      EXPECT_TRUE(v >= page.first_vertex && v < page.first_vertex + page.vertex_count);
+    }
   }
-  uint32_t expected = 0;  // the finest levels first, in `order`
+  EXPECT_GT(paged.pages.size(), set->pages.size());
+  for (size_t p = 1; p < paged.pages.size(); ++p) {
+    EXPECT_EQ(paged.pages[p].first_index,
+              paged.pages[p - 1].first_index + paged.pages[p - 1].index_count);
+    EXPECT_EQ(paged.pages[p].first_vertex,
+              paged.pages[p - 1].first_vertex + paged.pages[p - 1].vertex_count);
+  }
+  // The first page: the finest levels of the first group, in `order`.
+  uint32_t expected = 0;
   for (uint32_t object : order) {
-    if (ordered.first_lod[object] == ordered.first_lod[object + 1]) continue;
-    const Lod& finest = ordered.lods[ordered.first_lod[object]];
-    EXPECT_EQ(finest.first_index, expected);
-    expected += finest.index_count;
+    if (paged.first_lod[object] == paged.first_lod[object + 1]) continue;
+    const uint32_t k = paged.first_lod[object];
+    if (paged.lod_page[k] != 0) break;
+    EXPECT_EQ(paged.lods[k].first_index, expected);
+    expected += paged.lods[k].index_count;
   }
+  EXPECT_EQ(expected, paged.pages[0].index_count);
 }
 
 TEST(LodSet, KeptInAPackAndRefusedWhenDamaged) {
@@ -101,7 +122,21 @@ TEST(LodSet, KeptInAPackAndRefusedWhenDamaged) {
     ASSERT_TRUE(back) << back.error().message;
     EXPECT_TRUE(test::same_bytes(back->lods, set->lods));
     EXPECT_EQ(back->indices, set->indices);
+    EXPECT_TRUE(test::same_bytes(back->vertices, set->vertices));
     EXPECT_EQ(back->first_lod, set->first_lod);
+    EXPECT_EQ(back->lod_page, set->lod_page);
+    // The tables alone, and each page read alone: a scene mesh of its own.
+    auto index = load_lod_set(*store, scene, GeometryLoad::index_only);
+    ASSERT_TRUE(index) << index.error().message;
+    EXPECT_TRUE(index->indices.empty() && index->vertices.empty());
+    EXPECT_EQ(index->lod_page, set->lod_page);
+    EXPECT_EQ(index->triangle_count(), set->indices.size() / 3);
+    const MeshPage& last = set->pages.back();
+    auto page = read_mesh_page(*store, kLodPagePrefix, uint32_t(set->pages.size() - 1), last);
+    ASSERT_TRUE(page) << page.error().message;
+    ASSERT_EQ((*page)->indices.size(), last.index_count);
+    for (uint32_t i = 0; i < last.index_count; ++i)
+      EXPECT_EQ((*page)->indices[i] + last.first_vertex, set->indices[last.first_index + i]);
     // Another scene with fewer objects: the LODs are not its own.
     const Scene other = test::make_box_row(2);
     auto refused = load_lod_set(*store, other);
@@ -111,14 +146,26 @@ TEST(LodSet, KeptInAPackAndRefusedWhenDamaged) {
   {
     auto store = Store::open(dir.file("p.ffpack"), Store::Mode::kReadWrite);
     ASSERT_TRUE(store);
-    std::vector<uint32_t> indices = set->indices;
-    indices[0] = uint32_t(set->vertices.size());  // past the vertices
-    ASSERT_TRUE(store->put("clusters/lod_indices", std::as_bytes(std::span(indices))));
+    auto bytes = store->get("clusters/lod_page/0");
+    ASSERT_TRUE(bytes);
+    const uint32_t past = set->pages[0].vertex_count;  // the last index: past the vertices
+    std::memcpy(bytes->data() + bytes->size() - 4, &past, 4);
+    ASSERT_TRUE(store->put("clusters/lod_page/0", *bytes));
     auto damaged = load_lod_set(*store, scene);
     ASSERT_FALSE(damaged);
     EXPECT_NE(damaged.error().message.find("p.ffpack"), std::string::npos)
         << damaged.error().message;
+    EXPECT_NE(damaged.error().message.find("'clusters/lod_page/0'"), std::string::npos)
+        << damaged.error().message;
     EXPECT_NE(damaged.error().message.find("index past the vertices"), std::string::npos);
+    // The tables alone still load: the damage is met by the walk that reads the page.
+    EXPECT_TRUE(load_lod_set(*store, scene, GeometryLoad::index_only));
+    bytes->resize(bytes->size() - 4);
+    ASSERT_TRUE(store->put("clusters/lod_page/0", *bytes));
+    damaged = load_lod_set(*store, scene);
+    ASSERT_FALSE(damaged);
+    EXPECT_NE(damaged.error().message.find("does not match its counts"), std::string::npos)
+        << damaged.error().message;
     ASSERT_TRUE(store->put("clusters/lods", std::as_bytes(std::span("abc", 3))));
     EXPECT_FALSE(load_lod_set(*store, scene));  // not whole records
   }

@@ -73,13 +73,6 @@ Drawing draw_walk(const Walk& walk) {
   return d;
 }
 
-double figure(const Technique& t, const std::string& name) {
-  for (const auto& [key, value] : t.figures())
-    if (key == name) return value;
-  ADD_FAILURE() << "no figure " << name;
-  return -1;
-}
-
 TEST(StratifiedGL, WalkMatchesBruteWithinTheBoundAndCrossesViewcells) {
   if (!gpu::create_headless_context()) GTEST_SKIP() << "no GL context";
   auto walk = bake_walk();
@@ -120,8 +113,8 @@ TEST(StratifiedGL, WalkMatchesBruteWithinTheBoundAndCrossesViewcells) {
   }
   EXPECT_GT(psnr_sum / compared, 24.0);
   EXPECT_EQ((*stratified)->failure(), "");
-  EXPECT_GT(figure(**stratified, "crossings"), 5.0);
-  EXPECT_EQ(figure(**stratified, "frames_in_unbaked_viewcells"), 0.0);
+  EXPECT_GT(test::figure(**stratified, "crossings"), 5.0);
+  EXPECT_EQ(test::figure(**stratified, "frames_in_unbaked_viewcells"), 0.0);
   // Near geometry is a small part of the city.
   EXPECT_LT(near_triangles / walk->path.frames.size(), walk->city.triangle_count() / 4);
 }
@@ -168,8 +161,8 @@ TEST(StratifiedGL, TwoShellsNestTheirFarFields) {
   auto& store = d.store;
   auto t = make_technique("stratified");
   ASSERT_TRUE(test::load_technique(**t, walk->city, renderer, &*store));
-  EXPECT_DOUBLE_EQ(figure(**t, "shell1_box_m"), 180.0);
-  EXPECT_GT(figure(**t, "shell1_viewcell_m"), figure(**t, "shell0_viewcell_m"));
+  EXPECT_DOUBLE_EQ(test::figure(**t, "shell1_box_m"), 180.0);
+  EXPECT_GT(test::figure(**t, "shell1_viewcell_m"), test::figure(**t, "shell0_viewcell_m"));
   auto brute = make_technique("brute");
   ASSERT_TRUE(test::load_technique(**brute, walk->city, renderer));
   DrawList list, all;

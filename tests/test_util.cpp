@@ -27,6 +27,13 @@ Result<void> load_technique(Technique& technique, const Scene& scene, gpu::Devic
   return technique.load({scene, store, device ? *device : memory, quiet});
 }
 
+double figure(const Technique& technique, const std::string& name) {
+  for (const auto& [key, value] : technique.figures())
+    if (key == name) return value;
+  ADD_FAILURE() << "no figure " << name;
+  return -1;
+}
+
 void select_view(Technique& technique, const View& view, DrawList& list, uint64_t frame) {
   list.clear();
   technique.select({view, frame, Region::everything(), {}}, list);

@@ -43,6 +43,8 @@ Result<void> load_technique(Technique& technique, const Scene& scene, gpu::Devic
                             const Store* store = nullptr);
 // One frame's selection of the whole scene into `list`, cleared first.
 void select_view(Technique& technique, const View& view, DrawList& list, uint64_t frame = 0);
+// A technique's figure by name (a test failure, and -1, where it has none).
+double figure(const Technique& technique, const std::string& name);
 // Settings from "TECHNIQUE.KEY=VALUE" assignments, which must be well formed.
 TechniqueSettings settings_of(std::initializer_list<const char*> assignments);
 

@@ -145,6 +145,14 @@ std::optional<MeshHandle> MeshPool::want(uint64_t key, float priority) {
   return std::nullopt;
 }
 
+std::optional<MeshHandle> MeshPool::peek(uint64_t key) {
+  State& s = *s_;
+  auto it = s.resident.find(key);
+  if (it == s.resident.end()) return std::nullopt;
+  s.slots[it->second].wanted = s.frame;
+  return s.slots[it->second].mesh;
+}
+
 uint64_t MeshPool::end_frame(DrawList& out) {
   State& s = *s_;
   std::vector<Loaded> done;

@@ -58,6 +58,9 @@ class MeshPool {
   // The item's mesh when resident; else it is asked for at end_frame with this priority
   // (higher first). Wanting a resident item keeps it from eviction this frame.
   std::optional<MeshHandle> want(uint64_t key, float priority);
+  // The item's mesh when resident (kept from eviction this frame, as by want), without
+  // counting a hit or asking for it: a stand-in looked for where a wanted item is missing.
+  std::optional<MeshHandle> peek(uint64_t key);
   // See above. Returns how many wants of this frame were missed.
   uint64_t end_frame(DrawList& out);
   // Waits until the loader has nothing left to load (tests, references): the next end_frame

@@ -10,7 +10,6 @@
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/clusters/bake_work.hpp"
-#include "farfield/techniques/clusters/mesh_arrays.hpp"
 
 namespace farfield {
 
@@ -19,9 +18,6 @@ namespace {
 constexpr const char* kNodes = "clusters/tree_nodes";
 constexpr const char* kObjects = "clusters/tree_objects";
 constexpr const char* kParts = "clusters/tree_parts";
-constexpr const char* kVertices = "clusters/tree_vertices";
-constexpr const char* kUvs = "clusters/tree_uvs";
-constexpr const char* kIndices = "clusters/tree_indices";
 
 // A cell being split: its cube and the objects wholly inside it.
 struct OctantCell {
@@ -122,6 +118,31 @@ std::vector<SimplifiedPart> cluster_mesh(const Scene& scene, std::span<const uin
     if (!simplified.mesh.indices.empty() || simplified.error_m > 0)
       out.push_back(std::move(simplified));
   }
+  return out;
+}
+
+// Per node the page holding its cluster (ClusterTree's comment), and per page its first
+// node; empty where the children are not each a run of nodes after their parent's group.
+struct NodePages {
+  std::vector<uint32_t> node_page, first_node;
+};
+NodePages node_pages(std::span<const ClusterNode> nodes) {
+  NodePages out;
+  if (nodes.empty()) return out;
+  out.node_page.assign(nodes.size(), UINT32_MAX);
+  out.node_page[0] = 0;
+  out.first_node.push_back(0);
+  uint32_t next = 1;  // the first node not yet in a page
+  for (size_t n = 0; n < nodes.size(); ++n) {
+    const ClusterNode& node = nodes[n];
+    if (node.child_count == 0) continue;
+    if (node.first_child != next || uint64_t(next) + node.child_count > nodes.size()) return {};
+    for (uint32_t c = 0; c < node.child_count; ++c)
+      out.node_page[next + c] = uint32_t(out.first_node.size());
+    out.first_node.push_back(next);
+    next += node.child_count;
+  }
+  if (next != nodes.size()) return {};
   return out;
 }
 
@@ -270,6 +291,22 @@ Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOpti
     for (uint32_t c = 0; c < node.child_count; ++c)
       node.error_m = std::max(node.error_m, tree.nodes[node.first_child + c].error_m);
   }
+  // The meshes were appended node by node: each page's nodes are a run of them.
+  const NodePages paged = node_pages(tree.nodes);
+  std::vector<uint32_t> index_ends;
+  for (size_t p = 0; p < paged.first_node.size(); ++p) {
+    const uint32_t end_node =
+        p + 1 < paged.first_node.size() ? paged.first_node[p + 1] : uint32_t(node_count);
+    uint32_t end = index_ends.empty() ? 0 : index_ends.back();
+    for (uint32_t n = paged.first_node[p]; n < end_node; ++n)
+      if (tree.nodes[n].clustered()) {
+        const ClusterPart& last = tree.parts[tree.nodes[n].parts_end - 1];
+        end = last.first_index + last.index_count;
+      }
+    index_ends.push_back(end);
+  }
+  tree.pages = pages_of_runs(tree.indices, uint32_t(tree.vertices.size()), index_ends);
+  tree.node_page = paged.node_page;
   tree.bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return tree;
 }
@@ -280,13 +317,17 @@ Result<void> save_cluster_tree(const ClusterTree& tree, Store& store) {
   if (auto ok = store.put(kNodes, bytes_of(tree.nodes)); !ok) return ok;
   if (auto ok = store.put(kObjects, bytes_of(tree.objects)); !ok) return ok;
   if (auto ok = store.put(kParts, bytes_of(tree.parts)); !ok) return ok;
-  if (auto ok = store.put(kVertices, bytes_of(tree.vertices)); !ok) return ok;
-  if (auto ok = store.put(kUvs, bytes_of(tree.uvs)); !ok) return ok;
-  if (auto ok = store.put(kIndices, bytes_of(tree.indices)); !ok) return ok;
+  if (auto erased = store.erase(std::string(kTreePagePrefix) + "_page"); !erased)
+    return erased.error();
+  if (auto ok = save_mesh_pages(store, kTreePagePrefix, tree.vertices, tree.uvs, tree.indices,
+                                tree.pages);
+      !ok)
+    return ok;
   return transaction->commit();
 }
 
-Result<ClusterTree> load_cluster_tree(const Store& store, const Scene& scene) {
+Result<ClusterTree> load_cluster_tree(const Store& store, const Scene& scene,
+                                      GeometryLoad geometry) {
   ClusterTree tree;
   auto nodes = read_array<ClusterNode>(store, kNodes);
   if (!nodes) return nodes.error();
@@ -294,12 +335,8 @@ Result<ClusterTree> load_cluster_tree(const Store& store, const Scene& scene) {
   if (!objects) return objects.error();
   auto parts = read_array<ClusterPart>(store, kParts);
   if (!parts) return parts.error();
-  auto vertices = read_array<Vertex>(store, kVertices);
-  if (!vertices) return vertices.error();
-  auto uvs = read_array<glm::vec2>(store, kUvs);
-  if (!uvs) return uvs.error();
-  auto indices = read_array<uint32_t>(store, kIndices);
-  if (!indices) return indices.error();
+  auto pages = load_mesh_page_table(store, kTreePagePrefix);
+  if (!pages) return pages.error();
   auto inconsistent = [&](const char* what) {
     return make_error(store.path(), ": clusters bake is inconsistent (", what, ")");
   };
@@ -312,11 +349,8 @@ Result<ClusterTree> load_cluster_tree(const Store& store, const Scene& scene) {
     seen[object] = true;
   }
   if (nodes->empty() != scene.objects.empty()) return inconsistent("no hierarchy");
-  if (const char* problem = mesh_arrays_problem(vertices->size(), uvs->size(), *indices))
-    return inconsistent(problem);
   for (const ClusterPart& part : *parts)
     if (part.first_index % 3 != 0 || part.index_count % 3 != 0 || part.index_count == 0 ||
-        uint64_t(part.first_index) + part.index_count > indices->size() ||
         part.material >= scene.materials.size())
       return inconsistent("a cluster's mesh");
   // Children after their parent, each node the child of one: the walk from the root ends
@@ -337,12 +371,24 @@ Result<ClusterTree> load_cluster_tree(const Store& store, const Scene& scene) {
       return inconsistent("a node's parts");
     if (!(node.error_m >= 0.0f)) return inconsistent("a node's error");
   }
+  NodePages paged = node_pages(*nodes);
+  if (paged.first_node.size() != pages->size()) return inconsistent("the meshes' pages");
+  for (size_t n = 0; n < nodes->size(); ++n) {
+    const MeshPage& page = (*pages)[paged.node_page[n]];
+    for (uint32_t p = (*nodes)[n].parts_begin; p < (*nodes)[n].parts_end; ++p)
+      if (!page.holds((*parts)[p].first_index, (*parts)[p].index_count))
+        return inconsistent("a cluster's mesh outside its page");
+  }
+  if (geometry == GeometryLoad::whole)
+    if (auto read = read_mesh_pages(store, kTreePagePrefix, *pages, tree.vertices, tree.uvs,
+                                    tree.indices);
+        !read)
+      return read.error();
   tree.nodes = std::move(*nodes);
   tree.objects = std::move(*objects);
   tree.parts = std::move(*parts);
-  tree.vertices = std::move(*vertices);
-  tree.uvs = std::move(*uvs);
-  tree.indices = std::move(*indices);
+  tree.pages = std::move(*pages);
+  tree.node_page = std::move(paged.node_page);
   return tree;
 }
 

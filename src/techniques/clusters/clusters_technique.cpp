@@ -179,6 +179,12 @@ constexpr SettingSpec kSettings[] = {
              "much; a level of detail drawn instead of an object differs from it by its error); "
              "auto: boxes under a frame budget, whose time they would take, meshes without",
      .choices = "auto|boxes|meshes"},
+    {.key = "wait",
+     .type = SettingType::flag,
+     .default_value = "0",
+     .help = "with the scene left on disk (--cache-mb): wait until every page the frame "
+             "chose is loaded, so that nothing is drawn coarser than chosen (for references "
+             "and tests); 0: stand in the nearest coarser resident representation, never wait"},
     {.key = "threads",
      .type = SettingType::integer,
      .default_value = "0",
@@ -197,8 +203,9 @@ const TechniqueDescriptor clusters_descriptor{
     .paper = "001",
     .settings = kSettings,
     .bake = BakeUse::optional,
-    .bake_format = 5,
+    .bake_format = 6,
     .bake_renders = true,
+    .streams = true,
     .distributes = true,
     .make = [](const SettingValues& v,
                const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
@@ -226,6 +233,7 @@ const TechniqueDescriptor clusters_descriptor{
       o.benefit = {float(v.number("benefit_size")), float(v.number("benefit_focus")),
                    float(v.number("benefit_speed")), float(v.number("benefit_semantics"))};
       o.hysteresis = v.integer("hysteresis");
+      o.wait = v.flag("wait");
       o.occlusion = v.flag("occlusion");
       o.occluders = v.text("occluders") == "boxes"    ? ClustersOptions::Occluders::boxes
                     : v.text("occluders") == "meshes" ? ClustersOptions::Occluders::meshes
@@ -259,6 +267,7 @@ Result<void> ClustersTechnique::bake(const BakeContext& context) {
   // Spread over ranks: the simplification was shared; the rest (boxes and tables, which
   // render, and the final blobs) is rank 0's, from every rank's work.
   if (context.shards && context.shards->rank != 0) return {};
+  page_lods(*lods, tree->objects);
   BoxSet boxes;
   if (options_.boxes && context.renderer) {
     auto baked =
@@ -294,12 +303,16 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
   if (!record) return record.error();
   if (*record) {
     if (auto usable = usable_bake(*context.store, "clusters", clusters_descriptor.bake_format,
-                                  scene_fingerprint(context.scene));
+                                  context.on_disk ? context.on_disk->fingerprint()
+                                                  : scene_fingerprint(context.scene));
         !usable)
       return usable.error();
-    auto lods = load_lod_set(*context.store, context.scene);
+    // The scene left on disk: the meshes stay in the pack and stream (cluster_stream.hpp).
+    const GeometryLoad geometry =
+        context.on_disk ? GeometryLoad::index_only : GeometryLoad::whole;
+    auto lods = load_lod_set(*context.store, context.scene, geometry);
     if (!lods) return lods.error();
-    auto tree = load_cluster_tree(*context.store, context.scene);
+    auto tree = load_cluster_tree(*context.store, context.scene, geometry);
     if (!tree) return tree.error();
     auto boxes = load_box_set(*context.store, context.scene, *tree);
     if (!boxes) return boxes.error();
@@ -309,29 +322,40 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
     if (auto px = (*record)->settings.find("accuracy_px"); px != (*record)->settings.end())
       accuracy_px_ = std::max(0.0f, std::strtof(px->second.c_str(), nullptr));
     return use(std::move(*lods), std::move(*tree), std::move(*boxes), std::move(*accuracy),
-               context.scene, context.device);
+               context);
   }
+  if (context.on_disk)
+    return make_error("clusters: a scene left on disk (--cache-mb) is walked from a clusters "
+                      "bake: bake one first (farfield bake SCENE --technique clusters --store "
+                      "PACK) and pass --store PACK");
   auto lods = build_lod_set(context.scene, options_.lods, context.progress);
   if (!lods) return make_error("clusters: ", lods.error().message);
   auto tree = build_cluster_tree(context.scene, options_.tree, context.progress);
   if (!tree) return make_error("clusters: ", tree.error().message);
+  page_lods(*lods, tree->objects);
   // Boxes are rendered by a bake; without one there are none.
-  return use(std::move(*lods), std::move(*tree), BoxSet{}, AccuracyTable{}, context.scene,
-             context.device);
+  return use(std::move(*lods), std::move(*tree), BoxSet{}, AccuracyTable{}, context);
 }
 
 Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
-                                    AccuracyTable accuracy, const Scene& scene,
-                                    gpu::Device& device) {
+                                    AccuracyTable accuracy, const LoadContext& context) {
+  const Scene& scene = context.scene;
+  gpu::Device& device = context.device;
+  stream_.reset();
   lods_ = std::move(lods);
   tree_ = std::move(tree);
   boxes_ = std::move(boxes);
   accuracy_ = std::move(accuracy);
   scene_ = &scene;
   clusters_ = count_clusters(tree_);
-  if (tree_.objects.size() == scene.objects.size()) order_lods_by_level(lods_, tree_.objects);
   resources_.bind(device);
   lod_mesh_ = cluster_mesh_ = {};
+  if (context.on_disk) {
+    auto stream = ClusterStream::create(*context.on_disk, *context.store, lods_, tree_, boxes_,
+                                        device, context.cache_bytes);
+    if (!stream) return make_error("clusters: ", stream.error().message);
+    stream_ = std::move(*stream);
+  }
   if (!lods_.indices.empty()) {
     auto mesh = resources_.scene_mesh(lods_.vertices, lods_.uvs, lods_.indices);
     if (!mesh) return make_error("clusters: ", mesh.error().message);
@@ -360,12 +384,16 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   full_ = std::make_unique<ObjectSet>(scene);
   occluders_.reset();
   mesh_occluders_.reset();
-  if (options_.occlusion && options_.occluders != ClustersOptions::Occluders::meshes)
+  // With the scene on disk its triangles, which both kinds of occluder are found in, are not
+  // at hand: no occlusion.
+  const bool occlusion = options_.occlusion && !stream_;
+  if (occlusion && options_.occluders != ClustersOptions::Occluders::meshes)
     occluders_ = std::make_unique<Occluders>(scene);
-  if (options_.occlusion && options_.occluders != ClustersOptions::Occluders::boxes)
+  if (occlusion && options_.occluders != ClustersOptions::Occluders::boxes)
     mesh_occluders_ =
         std::make_unique<Occluders>(scene, OccluderOptions{.per_frame = 128, .meshes = true});
   frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = switches_ = boxes_drawn_ = 0;
+  coarser_frames_ = stood_in_ = 0;
   cost_ = {};
   return {};
 }
@@ -436,6 +464,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   visited_ += stats.nodes_visited;
   switches_ += stats.switches;
 
+  place(out);
   full_->clear();
   // Ranges that follow each other in one mesh with one material are one draw.
   auto push = [&](uint32_t first, uint32_t count, uint32_t material, MeshHandle mesh) {
@@ -446,26 +475,31 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     else
       ranges.push_back({first, count, material, mesh});
   };
-  for (const Choice& c : choices_) {
+  for (const ClusterStream::Placed& p : placed_) {
+    const Choice& c = p.choice;
     switch (c.kind) {
       case Choice::Kind::cluster: {
         ++clusters_drawn_;
         const ClusterNode& node = tree_.nodes[c.index];
-        for (uint32_t p = node.parts_begin; p < node.parts_end; ++p) {
-          const ClusterPart& part = tree_.parts[p];
-          push(part.first_index, part.index_count, part.material, cluster_mesh_);
+        for (uint32_t k = node.parts_begin; k < node.parts_end; ++k) {
+          const ClusterPart& part = tree_.parts[k];
+          push(part.first_index - p.index_base, part.index_count, part.material, p.mesh);
         }
         break;
       }
       case Choice::Kind::lod: {
         ++lods_drawn_;
         const Lod& lod = lods_.lods[c.index];
-        push(lod.first_index, lod.index_count, scene_->objects[lod.object].material, lod_mesh_);
+        push(lod.first_index - p.index_base, lod.index_count,
+             scene_->objects[lod.object].material, p.mesh);
         break;
       }
       case Choice::Kind::whole:
         ++full_drawn_;
-        full_->insert(c.index);
+        if (p.mesh)
+          streamed_whole_.push_back(p);  // from its chunk, after the rest as full_'s
+        else
+          full_->insert(c.index);
         break;
       case Choice::Kind::box:
         ++boxes_drawn_;
@@ -474,10 +508,51 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     }
   }
   full_->emit(out);  // the whole objects, in scene order
+  std::sort(streamed_whole_.begin(), streamed_whole_.end(),
+            [](const ClusterStream::Placed& a, const ClusterStream::Placed& b) {
+              return a.choice.index < b.choice.index;
+            });
+  for (const ClusterStream::Placed& p : streamed_whole_) {
+    const Object& object = scene_->objects[p.choice.index];
+    push(object.first_index - p.index_base, object.index_count, object.material, p.mesh);
+  }
+  streamed_whole_.clear();
   const size_t box_draws = add_boxes(out);
   if (cost_.ready())
     out.predicted_ms = cost_.predict_ms(
         double(stats.triangles), double(out.opaque.size() + out.transparent.size() + box_draws));
+}
+
+// Where each choice is drawn from: the technique's meshes, or with the scene on disk what of
+// the pack and the scene is resident (cluster_stream.hpp), waiting for the rest with
+// clusters.wait.
+void ClustersTechnique::place(DrawList& out) {
+  placed_.clear();
+  if (!stream_) {
+    for (const Choice& c : choices_)
+      placed_.push_back({c,
+                         c.kind == Choice::Kind::cluster ? cluster_mesh_
+                         : c.kind == Choice::Kind::lod   ? lod_mesh_
+                                                         : MeshHandle{},
+                         0});
+    return;
+  }
+  uint64_t fewest = UINT64_MAX;
+  for (int stalled = 0;;) {
+    const uint64_t stood_in = stream_->place(choices_, last_eye_, placed_);
+    stream_->end_frame(out);
+    if (stood_in == 0) return;
+    // As brute.wait: given up when three rounds in a row load nothing more, or a page cannot
+    // be read.
+    stalled = stood_in < fewest ? 0 : stalled + 1;
+    fewest = std::min(fewest, stood_in);
+    if (!options_.wait || stalled >= 3 || !stream_->failure().empty()) {
+      ++coarser_frames_;
+      stood_in_ += stood_in;
+      return;
+    }
+    stream_->wait_for_loads();
+  }
 }
 
 // The chosen boxes by page, neighbours in a page one draw; the pages' pixels go to the
@@ -527,15 +602,16 @@ std::string ClustersTechnique::describe() const {
       "(%llu triangles), %zu textured boxes (%.1f Mtexel, %.3f m a texel on average), accuracy "
       "tables from %zu directions",
       lods_.lods.size(), lods_.first_lod.empty() ? size_t(0) : lods_.first_lod.size() - 1,
-      (unsigned long long)(lods_.indices.size() / 3), tree_.nodes.size(), clusters_,
+      (unsigned long long)lods_.triangle_count(), tree_.nodes.size(), clusters_,
       (unsigned long long)tree_.triangle_count(), boxes_.boxes.size(),
       double(boxes_.texels()) / 1e6, boxes_.mean_texel_m(), accuracy_.directions.size());
 }
 
 std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
   auto mean = [&](uint64_t sum) { return frames_ ? double(sum) / double(frames_) : 0.0; };
-  return {{"lods", double(lods_.lods.size())},
-          {"lod_triangles", double(lods_.indices.size() / 3)},
+  std::vector<std::pair<std::string, double>> figures = {
+          {"lods", double(lods_.lods.size())},
+          {"lod_triangles", double(lods_.triangle_count())},
           {"nodes", double(tree_.nodes.size())},
           {"clusters", double(clusters_)},
           {"cluster_triangles", double(tree_.triangle_count())},
@@ -550,6 +626,23 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
           {"cost_fixed_ms", cost_.fixed_ms()},
           {"cost_ms_per_triangle", cost_.ms_per_triangle()},
           {"cost_ms_per_draw", cost_.ms_per_draw()}};
+  if (stream_) {
+    const gpu::MeshPoolCounters& c = stream_->counters();
+    figures.insert(figures.end(),
+                   {{"cache_hits", double(c.hits)},
+                    {"cache_misses", double(c.misses)},
+                    {"bytes_read", double(c.bytes_read)},
+                    {"cache_evictions", double(c.evictions)},
+                    {"cache_peak_mb", double(c.peak_resident_bytes) / 1e6},
+                    {"pinned_mb", double(stream_->pinned_bytes()) / 1e6},
+                    {"coarser_frames", double(coarser_frames_)},
+                    {"stood_in", double(stood_in_)}});
+  }
+  return figures;
+}
+
+std::string ClustersTechnique::failure() const {
+  return stream_ ? stream_->failure() : std::string();
 }
 
 }  // namespace farfield

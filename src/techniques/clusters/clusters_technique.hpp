@@ -14,6 +14,7 @@
 #include "farfield/spatial/occlusion_map.hpp"
 #include "farfield/techniques/clusters/accuracy_table.hpp"
 #include "farfield/techniques/clusters/cluster_selection.hpp"
+#include "farfield/techniques/clusters/cluster_stream.hpp"
 #include "farfield/techniques/clusters/cluster_tree.hpp"
 #include "farfield/techniques/clusters/frame_cost.hpp"
 #include "farfield/techniques/clusters/lod_set.hpp"
@@ -41,6 +42,7 @@ struct ClustersOptions {
   ClusterTraversal traversal = ClusterTraversal::refined;
   int hysteresis = 4;  // frames (paper 001, Sec. 4.6)
   HysteresisRule hysteresis_rule = HysteresisRule::paper;
+  bool wait = false;      // scene on disk: wait for the pages chosen (tests, references)
   bool occlusion = true;  // cull with what the nearest opaque objects hide
   // Boxes inside them, their own triangles, or boxes under a budget and triangles without.
   enum class Occluders : uint8_t { automatic, boxes, meshes } occluders = Occluders::automatic;
@@ -55,12 +57,14 @@ class ClustersTechnique final : public Technique {
   void select(const FrameInput& input, DrawList& out) override;
   std::string describe() const override;
   std::vector<std::pair<std::string, double>> figures() const override;
+  std::string failure() const override;
   // Whole objects grey, levels of detail green, clusters orange.
   void tint(DrawList& list) const override;
 
  private:
   Result<void> use(LodSet lods, ClusterTree tree, BoxSet boxes, AccuracyTable accuracy,
-                   const Scene& scene, gpu::Device& device);
+                   const LoadContext& context);
+  void place(DrawList& out);
   size_t add_boxes(DrawList& out);
 
   ClustersOptions options_;
@@ -82,6 +86,8 @@ class ClustersTechnique final : public Technique {
   std::unique_ptr<ClusterSelection> selection_;
   std::unique_ptr<ObjectSet> full_;  // this frame's objects drawn whole
   std::vector<Choice> choices_;
+  std::unique_ptr<ClusterStream> stream_;  // the scene on disk: meshes streamed, else null
+  std::vector<ClusterStream::Placed> placed_, streamed_whole_;
   std::unique_ptr<Occluders> occluders_;       // boxes; null: none (clusters.occlusion=0)
   std::unique_ptr<Occluders> mesh_occluders_;  // the objects' own triangles
   OcclusionMap occlusion_;
@@ -90,6 +96,7 @@ class ClustersTechnique final : public Technique {
   uint64_t frames_ = 0, clusters_drawn_ = 0, lods_drawn_ = 0, full_drawn_ = 0, visited_ = 0;
   uint64_t boxes_drawn_ = 0;
   uint64_t switches_ = 0;
+  uint64_t coarser_frames_ = 0, stood_in_ = 0;  // with the scene on disk
 };
 
 }  // namespace farfield

@@ -10,15 +10,11 @@
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/clusters/bake_work.hpp"
-#include "farfield/techniques/clusters/mesh_arrays.hpp"
 
 namespace farfield {
 
 namespace {
 
-constexpr const char* kVertices = "clusters/lod_vertices";
-constexpr const char* kUvs = "clusters/lod_uvs";
-constexpr const char* kIndices = "clusters/lod_indices";
 constexpr const char* kLods = "clusters/lods";
 
 // An object's chain: each level simplified from the full object (errors do not add up), kept
@@ -90,72 +86,108 @@ Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progres
     (*chains)[i] = {};
   }
   set.first_lod.push_back(uint32_t(set.lods.size()));
+  std::vector<uint32_t> scene_order(objects);
+  std::iota(scene_order.begin(), scene_order.end(), 0u);
+  page_lods(set, scene_order);
   set.bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return set;
 }
 
-void order_lods_by_level(LodSet& set, std::span<const uint32_t> order) {
-  std::vector<uint32_t> indices;
+void page_lods(LodSet& set, std::span<const uint32_t> order, uint64_t page_triangles) {
+  std::vector<Vertex> vertices;
+  std::vector<glm::vec2> uvs;
+  std::vector<uint32_t> indices, index_ends;
+  vertices.reserve(set.vertices.size());
+  uvs.reserve(set.uvs.size());
   indices.reserve(set.indices.size());
-  for (uint32_t level = 0;; ++level) {
-    bool any = false;
-    for (uint32_t object : order) {
-      const uint32_t k = set.first_lod[object] + level;
-      if (k >= set.first_lod[object + 1]) continue;
-      any = true;
-      Lod& lod = set.lods[k];
-      const uint32_t first = uint32_t(indices.size());
-      indices.insert(indices.end(), set.indices.begin() + lod.first_index,
-                     set.indices.begin() + lod.first_index + lod.index_count);
-      lod.first_index = first;
+  set.lod_page.assign(set.lods.size(), 0);
+  for (size_t begin = 0; begin < order.size();) {
+    size_t end = begin;
+    for (uint64_t triangles = 0; end < order.size() && (end == begin || triangles < page_triangles);
+         ++end) {
+      const uint32_t object = order[end];
+      if (set.first_lod[object] < set.first_lod[object + 1])
+        triangles += set.lods[set.first_lod[object]].index_count / 3;
     }
-    if (!any) break;
+    for (uint32_t level = 0;; ++level) {
+      bool any = false;
+      for (size_t i = begin; i < end; ++i) {
+        const uint32_t k = set.first_lod[order[i]] + level;
+        if (k >= set.first_lod[order[i] + 1]) continue;
+        any = true;
+        Lod& lod = set.lods[k];
+        // A level's vertices are one run, as it was appended.
+        const auto first = set.indices.begin() + lod.first_index;
+        const auto [low, high] = std::minmax_element(first, first + lod.index_count);
+        const uint32_t base = uint32_t(vertices.size());
+        vertices.insert(vertices.end(), set.vertices.begin() + *low,
+                        set.vertices.begin() + *high + 1);
+        if (!set.uvs.empty())
+          uvs.insert(uvs.end(), set.uvs.begin() + *low, set.uvs.begin() + *high + 1);
+        const uint32_t from = *low;
+        lod.first_index = uint32_t(indices.size());
+        for (auto it = first; it != first + lod.index_count; ++it)
+          indices.push_back(*it - from + base);
+        set.lod_page[k] = uint32_t(index_ends.size());
+      }
+      if (!any) break;
+      index_ends.push_back(uint32_t(indices.size()));
+    }
+    begin = end;
   }
+  set.pages = pages_of_runs(indices, uint32_t(vertices.size()), index_ends);
+  set.vertices = std::move(vertices);
+  set.uvs = std::move(uvs);
   set.indices = std::move(indices);
 }
 
 Result<void> save_lod_set(const LodSet& set, Store& store) {
   auto transaction = store.begin();
   if (!transaction) return transaction.error();
-  if (auto erased = store.erase("clusters/lod"); !erased) return erased.error();
-  if (auto ok = store.put(kVertices, bytes_of(set.vertices)); !ok) return ok;
-  if (auto ok = store.put(kUvs, bytes_of(set.uvs)); !ok) return ok;
-  if (auto ok = store.put(kIndices, bytes_of(set.indices)); !ok) return ok;
+  if (auto erased = store.erase(kLodPagePrefix); !erased) return erased.error();
   if (auto ok = store.put(kLods, bytes_of(set.lods)); !ok) return ok;
+  if (auto ok = save_mesh_pages(store, kLodPagePrefix, set.vertices, set.uvs, set.indices,
+                                set.pages);
+      !ok)
+    return ok;
   return transaction->commit();
 }
 
-Result<LodSet> load_lod_set(const Store& store, const Scene& scene) {
+Result<LodSet> load_lod_set(const Store& store, const Scene& scene, GeometryLoad geometry) {
   LodSet set;
-  auto vertices = read_array<Vertex>(store, kVertices);
-  if (!vertices) return vertices.error();
-  auto uvs = read_array<glm::vec2>(store, kUvs);
-  if (!uvs) return uvs.error();
-  auto indices = read_array<uint32_t>(store, kIndices);
-  if (!indices) return indices.error();
   auto lods = read_array<Lod>(store, kLods);
   if (!lods) return lods.error();
+  auto pages = load_mesh_page_table(store, kLodPagePrefix);
+  if (!pages) return pages.error();
   auto inconsistent = [&](const char* what) {
     return make_error(store.path(), ": clusters bake is inconsistent (", what, ")");
   };
-  if (const char* problem = mesh_arrays_problem(vertices->size(), uvs->size(), *indices))
-    return inconsistent(problem);
   set.first_lod.assign(scene.objects.size() + 1, 0);
+  set.lod_page.resize(lods->size());
   for (size_t k = 0; k < lods->size(); ++k) {
     const Lod& l = (*lods)[k];
     if (l.object >= scene.objects.size() || (k > 0 && l.object < (*lods)[k - 1].object))
       return inconsistent("LODs not of this scene's objects, in order");
+    // The page whose indices begin at or before the level's.
+    const auto page = std::upper_bound(pages->begin(), pages->end(), l.first_index,
+                                       [](uint32_t first, const MeshPage& p) {
+                                         return first < p.first_index;
+                                       });
     if (l.first_index % 3 != 0 || l.index_count % 3 != 0 || l.index_count == 0 ||
-        uint64_t(l.first_index) + l.index_count > indices->size())
+        page == pages->begin() || !(page - 1)->holds(l.first_index, l.index_count))
       return inconsistent("a LOD's triangles");
+    set.lod_page[k] = uint32_t(page - 1 - pages->begin());
     if (!(l.error_m >= 0.0f)) return inconsistent("a LOD's error");
     ++set.first_lod[l.object + 1];
   }
   for (size_t i = 1; i < set.first_lod.size(); ++i) set.first_lod[i] += set.first_lod[i - 1];
-  set.vertices = std::move(*vertices);
-  set.uvs = std::move(*uvs);
-  set.indices = std::move(*indices);
+  if (geometry == GeometryLoad::whole)
+    if (auto read = read_mesh_pages(store, kLodPagePrefix, *pages, set.vertices, set.uvs,
+                                    set.indices);
+        !read)
+      return read.error();
   set.lods = std::move(*lods);
+  set.pages = std::move(*pages);
   return set;
 }
 

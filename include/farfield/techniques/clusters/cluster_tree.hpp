@@ -18,6 +18,7 @@
 #include "farfield/core/progress.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/scene/scene.hpp"
+#include "farfield/techniques/clusters/mesh_pages.hpp"
 
 namespace farfield {
 
@@ -58,15 +59,20 @@ struct ClusterTreeOptions {
   int threads = 0;  // 0: all cores
 };
 
+// The clusters' meshes in pages (mesh_pages.hpp), each what a walk needs at once: page 0 the
+// root's, page p > 0 the children of the p-th node that has any (consecutive nodes: the
+// nodes are laid out breadth first), which opening that node draws.
 struct ClusterTree {
   std::vector<ClusterNode> nodes;  // nodes[0] is the root
   std::vector<uint32_t> objects;   // every object of the scene once, by node (depth first)
   std::vector<ClusterPart> parts;
-  std::vector<Vertex> vertices;  // the clusters' meshes
+  std::vector<Vertex> vertices;  // the clusters' meshes (none where GeometryLoad::index_only)
   std::vector<glm::vec2> uvs;    // one per vertex, or empty (untextured scene)
   std::vector<uint32_t> indices;
+  std::vector<MeshPage> pages;
+  std::vector<uint32_t> node_page;  // per node
   double bake_s = 0;
-  uint64_t triangle_count() const { return indices.size() / 3; }
+  uint64_t triangle_count() const { return triangles_of_pages(pages); }
 };
 
 // The cells and the objects in them, without meshes (fast: for tests and the mesh bake).
@@ -77,9 +83,13 @@ Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOpti
                                        Progress& progress, Store* keep = nullptr,
                                        const BakeShards* shards = nullptr);
 
-// Blobs under "clusters/tree_*" and back, refusing a missing or inconsistent tree (children or
-// ranges past the arrays, objects not each of `scene` once, materials not of `scene`).
+// Blobs under "clusters/tree_*" (the pages `clusters/tree_pages`, `clusters/tree_page/N`) and
+// back, refusing a missing or inconsistent tree (children or ranges past the arrays, meshes
+// outside their pages, objects not each of `scene` once, materials not of `scene`).
 Result<void> save_cluster_tree(const ClusterTree& tree, Store& store);
-Result<ClusterTree> load_cluster_tree(const Store& store, const Scene& scene);
+Result<ClusterTree> load_cluster_tree(const Store& store, const Scene& scene,
+                                      GeometryLoad geometry = GeometryLoad::whole);
+// The name prefix of the tree's pages (read_mesh_page).
+inline constexpr const char* kTreePagePrefix = "clusters/tree";
 
 }  // namespace farfield

@@ -14,6 +14,7 @@
 #include "farfield/core/progress.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/scene/scene.hpp"
+#include "farfield/techniques/clusters/mesh_pages.hpp"
 
 namespace farfield {
 
@@ -35,29 +36,44 @@ struct LodSetOptions {
   int threads = 0;             // 0: all cores
 };
 
+// A group of neighbouring objects' levels of one rank (their finest, their second, ...) is
+// one page (mesh_pages.hpp): what a walk loads at once, and one range of indices, so that
+// neighbours drawn at the same level are one draw.
+inline constexpr uint64_t kLodPageTriangles = 32768;  // of a group's finest levels
+
 struct LodSet {
-  std::vector<Vertex> vertices;
-  std::vector<glm::vec2> uvs;  // one per vertex (zero on untextured objects), or empty
+  std::vector<Vertex> vertices;  // empty where loaded GeometryLoad::index_only
+  std::vector<glm::vec2> uvs;    // one per vertex (zero on untextured objects), or empty
   std::vector<uint32_t> indices;
   std::vector<Lod> lods;            // by object, finest first
   std::vector<uint32_t> first_lod;  // per object, and one past the last: its lods' range
+  std::vector<MeshPage> pages;
+  std::vector<uint32_t> lod_page;  // per lod: the page holding it
   double bake_s = 0;
+  uint64_t triangle_count() const { return triangles_of_pages(pages); }
 };
 
-// `keep`: a pack where finished chains are kept as the work goes, so that a bake killed and
+// Laid out in pages in scene order. `keep`: a pack where finished chains are kept as the work goes, so that a bake killed and
 // run again redoes only the rest (bake_work.hpp); null: nothing kept.
 // `shards`: the bake is spread over ranks (technique.hpp); other ranks than 0 get their share.
 Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& options, Progress& progress,
                              Store* keep = nullptr, const BakeShards* shards = nullptr);
 
-// The levels' triangles laid out level by level, the objects of each level in `order` (the
-// hierarchy's), so that neighbouring objects drawn at the same level are one range of
-// indices: one draw, where a draw costs as much as hundreds of triangles on llvmpipe.
-void order_lods_by_level(LodSet& set, std::span<const uint32_t> order);
+// Lays the set out again in pages of neighbours in `order` (the hierarchy's, whose
+// neighbours are near each other): groups of consecutive objects whose finest levels hold
+// about `page_triangles`, each group's levels a page each, finest first. Neighbours drawn at
+// the same level are then one range of indices: one draw, where a draw costs as much as
+// hundreds of triangles on llvmpipe.
+void page_lods(LodSet& set, std::span<const uint32_t> order,
+               uint64_t page_triangles = kLodPageTriangles);
 
-// Blobs under "clusters/lod*" (replacing a set there) and back, refusing a missing or
-// inconsistent one (ranges past the arrays, objects not of `scene`).
+// Blobs under "clusters/lod*" (replacing a set there: the levels `clusters/lods` and the pages
+// `clusters/lod_pages`, `clusters/lod_page/N`) and back, refusing a missing or inconsistent
+// one (ranges past their pages, objects not of `scene`).
 Result<void> save_lod_set(const LodSet& set, Store& store);
-Result<LodSet> load_lod_set(const Store& store, const Scene& scene);
+Result<LodSet> load_lod_set(const Store& store, const Scene& scene,
+                            GeometryLoad geometry = GeometryLoad::whole);
+// The name prefix of the set's pages (read_mesh_page).
+inline constexpr const char* kLodPagePrefix = "clusters/lod";
 
 }  // namespace farfield

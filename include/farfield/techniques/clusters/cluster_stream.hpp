@@ -1,0 +1,105 @@
+// The clusters walk of a scene left on disk (issue 16; bench and view --cache-mb): the
+// hierarchy's tables stay in memory (cluster_tree.hpp and lod_set.hpp loaded index only), its
+// meshes come page by page from the pack (mesh_pages.hpp) and whole objects chunk by chunk from
+// the scene file, through one bounded pool of GPU meshes (gpu/mesh_pool.hpp) loaded on a
+// background thread. A frame never waits for them: a choice whose page is not resident is
+// asked for (the nearest first) and stood in for by the nearest coarser representation that
+// is: a coarser level or the box of the same object, else the cluster (or box) of the lowest
+// node above it whose is, which then stands for everything beneath it, so that the frame has
+// no holes and draws nothing twice. The first pages of the hierarchy (its top: the root's
+// cluster and the nodes below it, breadth first) are read when the walk starts and never
+// leave, so that there is always something to stand in.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "farfield/gpu/device.hpp"
+#include "farfield/gpu/draw_list.hpp"
+#include "farfield/gpu/mesh_pool.hpp"
+#include "farfield/scene/chunked_scene.hpp"
+#include "farfield/techniques/clusters/box_set.hpp"
+#include "farfield/techniques/clusters/cluster_selection.hpp"
+#include "farfield/techniques/clusters/cluster_tree.hpp"
+#include "farfield/techniques/clusters/lod_set.hpp"
+
+namespace farfield {
+
+class Store;
+
+class ClusterStream {
+ public:
+  // `lods` and `tree` (loaded index only), `boxes` and `scene` outlive the stream; `store` is
+  // the pack they came from (the top pages are read from it now; the loader thread opens the
+  // same file again). `budget_bytes` bounds the pages and chunks resident together.
+  static Result<std::unique_ptr<ClusterStream>> create(const ChunkedScene& scene,
+                                                       const Store& store, const LodSet& lods,
+                                                       const ClusterTree& tree,
+                                                       const BoxSet& boxes, gpu::Device& device,
+                                                       uint64_t budget_bytes);
+  ~ClusterStream();
+  ClusterStream(const ClusterStream&) = delete;
+  ClusterStream& operator=(const ClusterStream&) = delete;
+
+  // A representation as drawn this frame: from `mesh`, its indices less `index_base` (the
+  // first index of the page or chunk that mesh holds); boxes have no mesh.
+  struct Placed {
+    Choice choice;
+    MeshHandle mesh;
+    uint32_t index_base = 0;
+  };
+  // This frame's choices as drawn (replacing `out`'s), the missing asked for; returns how many
+  // were stood in for.
+  uint64_t place(std::span<const Choice> choices, const glm::vec3& eye, std::vector<Placed>& out);
+  // After place (MeshPool::end_frame); returns the wants missed.
+  uint64_t end_frame(DrawList& out) { return pool_->end_frame(out); }
+  void wait_for_loads() { pool_->wait_for_loads(); }
+  const gpu::MeshPoolCounters& counters() const { return pool_->counters(); }
+  std::string failure() const { return pool_->failure(); }
+  // Bytes of the top pages held for the whole walk (outside the pool's budget).
+  uint64_t pinned_bytes() const { return pinned_bytes_; }
+  MeshHandle pinned_mesh() const { return pinned_; }
+
+ private:
+  ClusterStream(const ChunkedScene& scene, const LodSet& lods, const ClusterTree& tree,
+                const BoxSet& boxes, gpu::Device& device);
+  // The mesh of a page or chunk when resident: wanted (asked for when missing) or peeked.
+  std::optional<MeshHandle> lod_page(uint32_t page, float priority, bool ask);
+  std::optional<MeshHandle> tree_page(uint32_t page, float priority, bool ask);
+  std::optional<MeshHandle> chunk(uint32_t chunk, float priority, bool ask);
+  // The representation standing in for `choice` (its coarser resident one): one of the same
+  // object, or a node's (marked in standing_), or none.
+  enum class StandIn : uint8_t { none, object, node };
+  StandIn stand_in(const Choice& choice, Placed& out);
+  StandIn node_stand_in(uint32_t node, Placed& out);
+  bool covered(uint32_t node, bool self) const;  // beneath (or at) a node standing in
+  uint32_t anchor(const Choice& choice) const;    // the node a choice lies at
+
+  const ChunkedScene& scene_;
+  const LodSet& lods_;
+  const ClusterTree& tree_;
+  const BoxSet& boxes_;
+  gpu::Device& device_;
+  std::unique_ptr<gpu::MeshPool> pool_;
+  MeshHandle pinned_;          // tree pages [0, pinned_pages_), end to end
+  uint32_t pinned_pages_ = 0;
+  uint64_t pinned_bytes_ = 0;
+  std::vector<uint32_t> parent_;          // per node; the root's: UINT32_MAX
+  std::vector<uint32_t> object_node_;     // per object: the node whose own objects hold it
+  std::vector<uint32_t> box_node_;        // per box: the node it lies at
+  std::vector<uint8_t> standing_;        // per node: standing in this frame (2: placed)
+  std::vector<uint32_t> standing_list_;  // those nodes
+  struct Candidate {
+    Placed placed;
+    uint32_t node;  // it lies at
+    StandIn stand_in;
+  };
+  std::vector<Candidate> candidates_;
+};
+
+}  // namespace farfield

@@ -1,0 +1,268 @@
+#include "farfield/techniques/clusters/cluster_stream.hpp"
+
+#include <algorithm>
+
+#include "farfield/core/bounds.hpp"
+#include "farfield/store/store.hpp"
+#include "farfield/techniques/chunk_stream.hpp"
+
+namespace farfield {
+
+namespace {
+
+// A pool key: what it is in the top byte, which in the rest.
+enum class Item : uint64_t { chunk = 0, lod_page = 1, tree_page = 2 };
+uint64_t key_of(Item item, uint32_t index) { return uint64_t(item) << 56 | index; }
+
+// The top pages held for the whole walk: breadth first from the root's, while they stay
+// within this share of the budget (and this many bytes).
+constexpr uint64_t kPinnedShare = 16;
+constexpr uint64_t kPinnedMaxBytes = uint64_t(64) << 20;
+
+uint64_t page_bytes(const MeshPage& page, bool textured) {
+  return uint64_t(page.vertex_count) * (sizeof(Vertex) + (textured ? sizeof(glm::vec2) : 0)) +
+         uint64_t(page.index_count) * sizeof(uint32_t);
+}
+
+// Read on the loader thread, which opens the pack on its first page (a Store is one
+// connection: the walk's own stays on its thread).
+struct PageLoader {
+  std::string pack;
+  const ChunkedScene* scene;
+  const LodSet* lods;
+  const ClusterTree* tree;
+  std::shared_ptr<std::optional<Store>> opened = std::make_shared<std::optional<Store>>();
+
+  Result<std::shared_ptr<const SceneMeshData>> operator()(uint64_t key) {
+    std::optional<Store>& store = *opened;
+    const auto item = Item(key >> 56);
+    const uint32_t index = uint32_t(key & ((uint64_t(1) << 56) - 1));
+    if (item == Item::chunk) return read_chunk_mesh(*scene, index);
+    if (!store) {
+      auto open = Store::open(pack, Store::Mode::kRead);
+      if (!open) return open.error();
+      store.emplace(std::move(*open));
+    }
+    const bool lod = item == Item::lod_page;
+    auto page = read_mesh_page(*store, lod ? kLodPagePrefix : kTreePagePrefix, index,
+                               lod ? lods->pages[index] : tree->pages[index]);
+    if (!page) return page.error();
+    return std::shared_ptr<const SceneMeshData>(std::move(*page));
+  }
+};
+
+}  // namespace
+
+ClusterStream::ClusterStream(const ChunkedScene& scene, const LodSet& lods,
+                             const ClusterTree& tree, const BoxSet& boxes, gpu::Device& device)
+    : scene_(scene), lods_(lods), tree_(tree), boxes_(boxes), device_(device) {}
+
+ClusterStream::~ClusterStream() {
+  pool_.reset();
+  if (pinned_) device_.free(pinned_);
+}
+
+Result<std::unique_ptr<ClusterStream>> ClusterStream::create(
+    const ChunkedScene& scene, const Store& store, const LodSet& lods, const ClusterTree& tree,
+    const BoxSet& boxes, gpu::Device& device, uint64_t budget_bytes) {
+  std::unique_ptr<ClusterStream> s(new ClusterStream(scene, lods, tree, boxes, device));
+  const size_t nodes = tree.nodes.size();
+  s->parent_.assign(nodes, UINT32_MAX);
+  s->object_node_.assign(scene.index().objects.size(), 0);
+  for (uint32_t n = 0; n < nodes; ++n) {
+    const ClusterNode& node = tree.nodes[n];
+    for (uint32_t c = 0; c < node.child_count; ++c) s->parent_[node.first_child + c] = n;
+    for (uint32_t k = node.objects_begin; k < node.own_end; ++k)
+      s->object_node_[tree.objects[k]] = n;
+  }
+  s->box_node_.assign(boxes.boxes.size(), 0);
+  for (size_t o = 0; o < boxes.object_box.size(); ++o)
+    if (boxes.object_box[o] != BoxSet::kNone) s->box_node_[boxes.object_box[o]] = s->object_node_[o];
+  for (uint32_t n = 0; n < boxes.node_box.size(); ++n)
+    if (boxes.node_box[n] != BoxSet::kNone) s->box_node_[boxes.node_box[n]] = n;
+  s->standing_.assign(nodes, 0);
+
+  // The top of the hierarchy, end to end as a whole load lays it out.
+  const bool textured = scene.uv_count() > 0;
+  const uint64_t pinned_limit = std::min(budget_bytes / kPinnedShare, kPinnedMaxBytes);
+  uint32_t pinned = 0;
+  for (uint64_t bytes = 0; pinned < tree.pages.size(); ++pinned) {
+    bytes += page_bytes(tree.pages[pinned], textured);
+    if (pinned > 0 && bytes > pinned_limit) break;
+    s->pinned_bytes_ = bytes;
+  }
+  if (pinned > 0) {
+    std::vector<Vertex> vertices;
+    std::vector<glm::vec2> uvs;
+    std::vector<uint32_t> indices;
+    if (auto read = read_mesh_pages(store, kTreePagePrefix,
+                                    std::span(tree.pages).first(pinned), vertices, uvs, indices);
+        !read)
+      return read.error();
+    auto mesh = device.create_scene_mesh(vertices, uvs, indices);
+    if (!mesh) return mesh.error();
+    s->pinned_ = *mesh;
+    s->pinned_pages_ = pinned;
+  }
+
+  // Enough meshes for the budget's worth of the smallest pages and chunks, within reason.
+  uint64_t smallest = UINT64_MAX;
+  for (const SceneChunk& k : scene.chunks()) smallest = std::min(smallest, k.byte_size());
+  for (const MeshPage& p : lods.pages) smallest = std::min(smallest, page_bytes(p, textured));
+  for (size_t p = pinned; p < tree.pages.size(); ++p)
+    smallest = std::min(smallest, page_bytes(tree.pages[p], textured));
+  smallest = std::max<uint64_t>(smallest, 4096);
+  const uint64_t items = scene.chunks().size() + lods.pages.size() + tree.pages.size();
+  const uint32_t meshes = uint32_t(
+      std::clamp<uint64_t>(budget_bytes / smallest + 1, 1, std::min<uint64_t>(items + 1, 8192)));
+  auto pool = gpu::MeshPool::create(device, {budget_bytes, meshes},
+                                    PageLoader{store.path(), &scene, &lods, &tree});
+  if (!pool) return pool.error();
+  s->pool_ = std::move(*pool);
+  return s;
+}
+
+std::optional<MeshHandle> ClusterStream::lod_page(uint32_t page, float priority, bool ask) {
+  const uint64_t key = key_of(Item::lod_page, page);
+  return ask ? pool_->want(key, priority) : pool_->peek(key);
+}
+
+std::optional<MeshHandle> ClusterStream::tree_page(uint32_t page, float priority, bool ask) {
+  if (page < pinned_pages_) return pinned_;
+  const uint64_t key = key_of(Item::tree_page, page);
+  return ask ? pool_->want(key, priority) : pool_->peek(key);
+}
+
+std::optional<MeshHandle> ClusterStream::chunk(uint32_t chunk, float priority, bool ask) {
+  const uint64_t key = key_of(Item::chunk, chunk);
+  return ask ? pool_->want(key, priority) : pool_->peek(key);
+}
+
+uint32_t ClusterStream::anchor(const Choice& c) const {
+  switch (c.kind) {
+    case Choice::Kind::cluster:
+      return c.index;
+    case Choice::Kind::lod:
+      return object_node_[lods_.lods[c.index].object];
+    case Choice::Kind::whole:
+      return object_node_[c.index];
+    case Choice::Kind::box:
+      return box_node_[c.index];
+  }
+  return 0;
+}
+
+ClusterStream::StandIn ClusterStream::node_stand_in(uint32_t node, Placed& out) {
+  for (uint32_t n = node; n != UINT32_MAX; n = parent_[n]) {
+    if (tree_.nodes[n].clustered())
+      if (auto mesh = tree_page(tree_.node_page[n], 0.0f, false)) {
+        const uint32_t page = tree_.node_page[n];
+        out = {{Choice::Kind::cluster, n}, *mesh,
+               page < pinned_pages_ ? 0u : tree_.pages[page].first_index};
+        if (!standing_[n]) standing_list_.push_back(n);
+        standing_[n] = 1;
+        return StandIn::node;
+      }
+    if (n < boxes_.node_box.size() && boxes_.node_box[n] != BoxSet::kNone) {
+      out = {{Choice::Kind::box, boxes_.node_box[n]}, {}, 0};
+      if (!standing_[n]) standing_list_.push_back(n);
+      standing_[n] = 1;
+      return StandIn::node;
+    }
+  }
+  return StandIn::none;
+}
+
+ClusterStream::StandIn ClusterStream::stand_in(const Choice& c, Placed& out) {
+  uint32_t object = UINT32_MAX, finer_than = 0;
+  switch (c.kind) {
+    case Choice::Kind::cluster:
+      return c.index > 0 ? node_stand_in(parent_[c.index], out) : StandIn::none;
+    case Choice::Kind::box:
+      return StandIn::none;  // boxes are always resident
+    case Choice::Kind::lod:
+      object = lods_.lods[c.index].object;
+      finer_than = c.index + 1;
+      break;
+    case Choice::Kind::whole:
+      object = c.index;
+      finer_than = lods_.first_lod[object];
+      break;
+  }
+  // The finest resident level coarser than the one asked for.
+  for (uint32_t k = finer_than; k < lods_.first_lod[object + 1]; ++k)
+    if (auto mesh = lod_page(lods_.lod_page[k], 0.0f, false)) {
+      out = {{Choice::Kind::lod, k}, *mesh, lods_.pages[lods_.lod_page[k]].first_index};
+      return StandIn::object;
+    }
+  if (object < boxes_.object_box.size() && boxes_.object_box[object] != BoxSet::kNone) {
+    out = {{Choice::Kind::box, boxes_.object_box[object]}, {}, 0};
+    return StandIn::object;
+  }
+  return node_stand_in(object_node_[object], out);
+}
+
+bool ClusterStream::covered(uint32_t node, bool self) const {
+  for (uint32_t n = self ? node : parent_[node]; n != UINT32_MAX; n = parent_[n])
+    if (standing_[n]) return true;
+  return false;
+}
+
+uint64_t ClusterStream::place(std::span<const Choice> choices, const glm::vec3& eye,
+                              std::vector<Placed>& out) {
+  out.clear();
+  candidates_.clear();
+  for (uint32_t n : standing_list_) standing_[n] = 0;
+  standing_list_.clear();
+  uint64_t stood_in = 0;
+  for (const Choice& c : choices) {
+    Placed placed{c, {}, 0};
+    std::optional<MeshHandle> mesh;
+    switch (c.kind) {
+      case Choice::Kind::cluster: {
+        const uint32_t page = tree_.node_page[c.index];
+        mesh = tree_page(page, -distance_to(tree_.nodes[c.index].bounds, eye), true);
+        placed.index_base = page < pinned_pages_ ? 0 : tree_.pages[page].first_index;
+        break;
+      }
+      case Choice::Kind::lod: {
+        const Lod& lod = lods_.lods[c.index];
+        const uint32_t page = lods_.lod_page[c.index];
+        mesh = lod_page(page, -distance_to(scene_.index().objects[lod.object].bounds, eye), true);
+        placed.index_base = lods_.pages[page].first_index;
+        break;
+      }
+      case Choice::Kind::whole: {
+        const uint32_t k = scene_.chunk_of(c.index);
+        mesh = chunk(k, -distance_to(scene_.index().objects[c.index].bounds, eye), true);
+        placed.index_base = scene_.chunks()[k].first_index;
+        break;
+      }
+      case Choice::Kind::box:
+        mesh = MeshHandle{};
+        break;
+    }
+    if (mesh) {
+      placed.mesh = *mesh;
+      candidates_.push_back({placed, anchor(c), StandIn::none});
+      continue;
+    }
+    ++stood_in;
+    if (const StandIn kind = stand_in(c, placed); kind != StandIn::none)
+      candidates_.push_back({placed, anchor(placed.choice), kind});
+  }
+  // A node standing in draws everything beneath it: what lies there goes. A node stands in
+  // once, however many choices it stood in for.
+  for (const Candidate& c : candidates_) {
+    if (c.stand_in == StandIn::node) {
+      if (covered(c.node, false) || standing_[c.node] == 2) continue;
+      standing_[c.node] = 2;
+    } else if (covered(c.node, true)) {
+      continue;
+    }
+    out.push_back(c.placed);
+  }
+  return stood_in;
+}
+
+}  // namespace farfield
