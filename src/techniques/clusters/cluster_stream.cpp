@@ -152,13 +152,15 @@ uint32_t ClusterStream::anchor(const Choice& c) const {
   return 0;
 }
 
+uint32_t ClusterStream::tree_index_base(uint32_t page) const {
+  return page < pinned_pages_ ? 0u : tree_.pages[page].first_index;
+}
+
 ClusterStream::StandIn ClusterStream::node_stand_in(uint32_t node, Placed& out) {
   for (uint32_t n = node; n != UINT32_MAX; n = parent_[n]) {
     if (tree_.nodes[n].clustered())
       if (auto mesh = tree_page(tree_.node_page[n], 0.0f, false)) {
-        const uint32_t page = tree_.node_page[n];
-        out = {{Choice::Kind::cluster, n}, *mesh,
-               page < pinned_pages_ ? 0u : tree_.pages[page].first_index};
+        out = {{Choice::Kind::cluster, n}, *mesh, tree_index_base(tree_.node_page[n])};
         if (!standing_[n]) standing_list_.push_back(n);
         standing_[n] = 1;
         return StandIn::node;
@@ -222,7 +224,7 @@ uint64_t ClusterStream::place(std::span<const Choice> choices, const glm::vec3& 
       case Choice::Kind::cluster: {
         const uint32_t page = tree_.node_page[c.index];
         mesh = tree_page(page, -distance_to(tree_.nodes[c.index].bounds, eye), true);
-        placed.index_base = page < pinned_pages_ ? 0 : tree_.pages[page].first_index;
+        placed.index_base = tree_index_base(page);
         break;
       }
       case Choice::Kind::lod: {

@@ -55,8 +55,7 @@ std::vector<MeshPage> pages_of_runs(std::span<const uint32_t> indices, uint32_t 
 Result<void> save_mesh_pages(Store& store, const std::string& prefix,
                              std::span<const Vertex> vertices, std::span<const glm::vec2> uvs,
                              std::span<const uint32_t> indices, std::span<const MeshPage> pages) {
-  const std::vector<MeshPage> table(pages.begin(), pages.end());
-  if (auto ok = store.put(prefix + "_pages", bytes_of(table)); !ok) return ok;
+  if (auto ok = store.put(prefix + "_pages", std::as_bytes(pages)); !ok) return ok;
   std::vector<std::byte> blob;
   std::vector<uint32_t> local;
   for (uint32_t p = 0; p < pages.size(); ++p) {

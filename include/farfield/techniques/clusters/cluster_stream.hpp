@@ -63,7 +63,6 @@ class ClusterStream {
   std::string failure() const { return pool_->failure(); }
   // Bytes of the top pages held for the whole walk (outside the pool's budget).
   uint64_t pinned_bytes() const { return pinned_bytes_; }
-  MeshHandle pinned_mesh() const { return pinned_; }
 
  private:
   ClusterStream(const ChunkedScene& scene, const LodSet& lods, const ClusterTree& tree,
@@ -71,6 +70,8 @@ class ClusterStream {
   // The mesh of a page or chunk when resident: wanted (asked for when missing) or peeked.
   std::optional<MeshHandle> lod_page(uint32_t page, float priority, bool ask);
   std::optional<MeshHandle> tree_page(uint32_t page, float priority, bool ask);
+  // Where a tree page's indices start in the mesh that holds it (pinned pages share one mesh).
+  uint32_t tree_index_base(uint32_t page) const;
   std::optional<MeshHandle> chunk(uint32_t chunk, float priority, bool ask);
   // The representation standing in for `choice` (its coarser resident one): one of the same
   // object, or a node's (marked in standing_), or none.
