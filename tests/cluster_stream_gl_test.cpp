@@ -64,8 +64,8 @@ View looking_down(std::mt19937& rng, const Bounds3& b) {
   return view;
 }
 
-// Loaded from the whole pack and from the pack and the scene left on disk, both without
-// occlusion (the walk from disk has no triangles at hand to find occluders in).
+// Loaded from the whole pack and from the pack and the scene left on disk, both culling with
+// the bake's occluder boxes (the walk from disk has no triangles at hand for mesh occluders).
 struct Walks {
   std::unique_ptr<gpu::Renderer> whole, streamed;
   std::unique_ptr<Technique> in_memory, from_disk;
@@ -88,11 +88,11 @@ void load_walks(Walks& w, std::initializer_list<const char*> streamed_settings,
   ASSERT_TRUE(whole && streamed);
   w.whole = std::move(*whole);
   w.streamed = std::move(*streamed);
-  auto in_memory = make_technique("clusters", test::settings_of({"clusters.occlusion=0"}));
+  auto in_memory = make_technique("clusters", test::settings_of({"clusters.occluders=boxes"}));
   ASSERT_TRUE(in_memory);
   w.in_memory = std::move(*in_memory);
   ASSERT_TRUE(test::load_technique(*w.in_memory, b.city, w.whole.get(), &*w.store));
-  TechniqueSettings settings = test::settings_of({"clusters.occlusion=0"});
+  TechniqueSettings settings = test::settings_of({"clusters.occluders=boxes"});
   for (const char* s : streamed_settings) ASSERT_TRUE(settings.add(s));
   auto from_disk = make_technique("clusters", settings);
   ASSERT_TRUE(from_disk);
@@ -187,6 +187,28 @@ TEST(ClusterStreamGL, NeverWaitsStandsInCoarserThenRefines) {
   }
   const ImageComparison c = compare_images(draw(*w.whole, *w.in_memory, view, 40), image);
   EXPECT_TRUE(c.identical()) << c.differing_pixels << " pixels differ, PSNR " << c.psnr_db;
+}
+
+// In the street the walk from disk culls with the bake's boxes: fewer triangles than without
+// occlusion, and the same as the walk from the whole pack.
+TEST(ClusterStreamGL, CullsWithTheBakesOccluderBoxes) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << "no GL context";
+  View view;
+  view.width = 256;
+  view.height = 192;
+  view.pose = {{8.0f, 1.9f, 8.0f}, 0.0f, 0.0f};  // at the first crossing, along the street
+  auto triangles = [&](std::initializer_list<const char*> streamed_settings,
+                       bool whole_pack = false) {
+    Walks w;
+    load_walks(w, streamed_settings, uint64_t(256) << 20);
+    DrawList list;
+    test::select_view(whole_pack ? *w.in_memory : *w.from_disk, view, list);
+    return list.triangle_count();
+  };
+  const uint64_t culled = triangles({"clusters.wait=1"});
+  EXPECT_LT(culled, triangles({"clusters.wait=1", "clusters.occlusion=0"}));
+  EXPECT_EQ(culled, triangles({}, true));
 }
 
 TEST(ClusterStreamGL, ADamagedPageIsNamedWhileWalking) {

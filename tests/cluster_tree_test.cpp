@@ -41,10 +41,11 @@ ClusterTreeOptions small_leaves() {
   return o;
 }
 
-// The hierarchy with its meshes, and the LODs under it, made once.
+// The hierarchy with its meshes, and the LODs under it, made once; and a hierarchy whose
+// clusters of more than 5,000 triangles are made from the levels.
 struct Baked {
   LodSet lods;
-  ClusterTree tree;
+  ClusterTree tree, from_levels;
 };
 const Baked& baked() {
   static const Baked b = [] {
@@ -56,6 +57,12 @@ const Baked& baked() {
     auto tree = build_cluster_tree(small_city(), small_leaves(), quiet);
     FF_ASSERT(tree.ok(), "tree");
     out.tree = std::move(*tree);
+    ClusterTreeOptions bounded = small_leaves();
+    bounded.input_triangles = 5000;
+    auto from_levels =
+        build_cluster_tree(small_city(), bounded, quiet, nullptr, nullptr, &out.lods);
+    FF_ASSERT(from_levels.ok(), "tree from levels");
+    out.from_levels = std::move(*from_levels);
     return out;
   }();
   return b;
@@ -142,11 +149,10 @@ TEST(ClusterTree, LooseCellsHoldFewerObjectsHighUp) {
 // (measured at random points) and never falls below its children's; its mesh has at most
 // clusters_triangles and half of its objects' triangles (a little more where the simplifier
 // misses its target, never as many as its objects); clusters only where two objects lie
-// inside.
-TEST(ClusterTree, ClusterErrorsBoundTheirDistanceAndGrowUpwards) {
+// inside. The same where the largest clusters are made from the levels (their error then
+// includes the levels').
+void expect_clusters_bound_their_distance(const ClusterTree& tree) {
   const Scene& scene = small_city();
-  const Baked& b = baked();
-  const ClusterTree& tree = b.tree;
   size_t clusters = 0;
   for (uint32_t n = 0; n < tree.nodes.size(); ++n) {
     const ClusterNode& node = tree.nodes[n];
@@ -178,6 +184,31 @@ TEST(ClusterTree, ClusterErrorsBoundTheirDistanceAndGrowUpwards) {
     }
   }
   EXPECT_GT(clusters, 4u);
+}
+
+TEST(ClusterTree, ClusterErrorsBoundTheirDistanceAndGrowUpwards) {
+  expect_clusters_bound_their_distance(baked().tree);
+}
+
+TEST(ClusterTree, ClustersFromTheLevelsBoundTheirDistanceToo) {
+  const Baked& b = baked();
+  expect_clusters_bound_their_distance(b.from_levels);
+  // The largest clusters differ (they come from other triangles); the smaller are the same.
+  size_t differ = 0, same = 0;
+  ASSERT_EQ(b.from_levels.nodes.size(), b.tree.nodes.size());
+  for (uint32_t n = 0; n < b.tree.nodes.size(); ++n) {
+    const ClusterNode &full = b.tree.nodes[n], &levels = b.from_levels.nodes[n];
+    if (!full.clustered()) continue;
+    uint64_t triangles = 0;
+    for (uint32_t k = full.objects_begin; k < full.objects_end; ++k)
+      triangles += small_city().objects[b.tree.objects[k]].index_count / 3;
+    if (triangles > 5000)
+      differ += levels.error_m != full.error_m || levels.triangles != full.triangles;
+    else
+      same += levels.error_m == full.error_m && levels.triangles == full.triangles;
+  }
+  EXPECT_GT(differ, 0u);
+  EXPECT_GT(same, 0u);
 }
 
 TEST(ClusterTree, KeptInAPackAndRefusedWhenDamaged) {

@@ -57,19 +57,25 @@ TEST(LodSet, ChainsHaveFewerTrianglesAndGrowingErrors) {
   EXPECT_FALSE(build_lod_set(scene, bad, quiet));
 }
 
-// Paged again in another order of the objects, every level keeps its triangles (the same
-// corners), each lies in its page, the pages follow each other, and a group's levels of one
-// rank are one page, in that order.
+// Paged in another order of the objects, every level keeps its triangles (the same corners),
+// each lies in its page, the pages follow each other, and a group's levels of one rank are one
+// page, in that order; an order that is not of the scene's objects is refused.
 TEST(LodSet, PagedInAnotherOrderKeepsEveryLevelsTriangles) {
   const Scene scene = small_tree();
   Progress quiet(true);
   auto set = build_lod_set(scene, {}, quiet);
   ASSERT_TRUE(set);
   ASSERT_FALSE(set->pages.empty());
-  LodSet paged = *set;
   std::vector<uint32_t> order(scene.objects.size());
   for (uint32_t i = 0; i < order.size(); ++i) order[i] = uint32_t(order.size()) - 1 - i;
-  page_lods(paged, order, 200);  // small pages: several groups
+  LodSetOptions small_pages;
+  small_pages.page_triangles = 200;  // several groups
+  auto reordered = build_lod_set(scene, small_pages, quiet, nullptr, nullptr, order);
+  ASSERT_TRUE(reordered) << reordered.error().message;
+  const LodSet& paged = *reordered;
+  order.pop_back();
+  EXPECT_FALSE(build_lod_set(scene, small_pages, quiet, nullptr, nullptr, order));
+  order.push_back(0);
   ASSERT_EQ(paged.indices.size(), set->indices.size());
   ASSERT_EQ(paged.lod_page.size(), paged.lods.size());
   for (size_t k = 0; k < set->lods.size(); ++k) {

@@ -33,16 +33,20 @@ Result<BakeOutcome> bake_into(const Scene& scene, const TechniqueDescriptor& d,
   store.emplace(std::move(*opened));
   std::unique_ptr<gpu::Context> context;
   std::unique_ptr<gpu::Renderer> renderer;
-  if (d.bake_renders && rank0) {
-    auto made_context = gpu::create_headless_context();
-    if (!made_context) return made_context.error();
-    context = std::move(*made_context);
-    auto made = gpu::Renderer::create(scene);
-    if (!made) return made.error();
-    renderer = std::move(*made);
-  }
+  BakeRenderer make_renderer;
+  if (d.bake_renders && rank0)
+    make_renderer = [&]() -> Result<gpu::Renderer*> {
+      if (renderer) return renderer.get();
+      auto made_context = gpu::create_headless_context();
+      if (!made_context) return made_context.error();
+      context = std::move(*made_context);
+      auto made = gpu::Renderer::create(scene);
+      if (!made) return made.error();
+      renderer = std::move(*made);
+      return renderer.get();
+    };
   if (auto ok = (*technique)->bake(
-          {scene, *store, renderer.get(), progress, world.distributed() ? &shards : nullptr});
+          {scene, *store, make_renderer, progress, world.distributed() ? &shards : nullptr});
       !ok)
     return ok.error();
   BakeOutcome outcome;

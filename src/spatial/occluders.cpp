@@ -7,6 +7,8 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "farfield/core/assert.hpp"
+
 namespace farfield {
 
 namespace {
@@ -117,7 +119,8 @@ std::optional<Bounds3> inscribed_box(const Scene& scene, uint32_t object) {
   return std::nullopt;
 }
 
-Occluders::Occluders(const Scene& scene, const OccluderOptions& options)
+Occluders::Occluders(const Scene& scene, const OccluderOptions& options,
+                     const std::vector<Bounds3>& known_boxes)
     : scene_(scene), options_(options) {
   if (options_.meshes) options_.texel_px = 1;  // mesh occluders are sampled per pixel
   std::vector<Bounds3> bounds(scene.objects.size());
@@ -129,6 +132,16 @@ Occluders::Occluders(const Scene& scene, const OccluderOptions& options)
   tree_ = build_octree(bounds, OctreeOptions{});
   state_.assign(scene.objects.size(), unknown);
   boxes_.resize(scene.objects.size());
+  if (!known_boxes.empty()) {
+    FF_ASSERT(known_boxes.size() == boxes_.size(), "%zu known boxes for %zu objects",
+              known_boxes.size(), boxes_.size());
+    boxes_ = known_boxes;
+    for (size_t i = 0; i < boxes_.size(); ++i) {
+      state_[i] = boxes_[i].empty() ? none : found;
+      found_ += state_[i] == found;
+    }
+    tried_ = uint32_t(boxes_.size());
+  }
   seen_in_.assign(scene.objects.size(), 0);
 }
 

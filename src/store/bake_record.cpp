@@ -28,6 +28,10 @@ Result<void> write_bake_record(Store& store, const BakeRecord& r) {
   return store.set_meta(record_key(r.technique), text);
 }
 
+Result<void> erase_bake_record(Store& store, std::string_view technique) {
+  return store.erase_meta(record_key(technique));
+}
+
 Result<std::optional<BakeRecord>> read_bake_record(const Store& store, std::string_view technique) {
   auto text = store.get_meta(record_key(technique));
   if (!text) return text.error();

@@ -231,6 +231,16 @@ Result<void> Store::set_meta(std::string_view key, std::string_view value) {
   return {};
 }
 
+Result<void> Store::erase_meta(std::string_view key) {
+  const std::string what = "cannot erase meta " + quoted(key);
+  if (auto ok = state_->writable(what); !ok) return ok.error();
+  Use use(state_->statements[kEraseMeta]);
+  bind_text(use.get(), 1, key);
+  const int rc = sqlite3_step(use.get());
+  if (rc != SQLITE_DONE) return state_->error(rc, what);
+  return {};
+}
+
 Result<std::optional<std::string>> Store::get_meta(std::string_view key) const {
   Use use(state_->statements[kGetMeta]);
   bind_text(use.get(), 1, key);

@@ -38,6 +38,7 @@ constexpr std::array<const char*, detail::kStatementCount> kStatementSql = {
     "INSERT OR REPLACE INTO meta(key, value) VALUES(?1, ?2)",
     "SELECT value FROM meta WHERE key = ?1",
     "SELECT key, value FROM meta WHERE key >= ?1 AND key < ?2 ORDER BY key",
+    "DELETE FROM meta WHERE key = ?1",
 };
 
 // When SQLite finds a database shorter than its header says, says by how much: the header's

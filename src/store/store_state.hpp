@@ -15,7 +15,8 @@
 namespace farfield::detail {
 
 enum StatementId {
-  kPut, kGet, kInfo, kList, kTotal, kErase, kSetMeta, kGetMeta, kListMeta, kStatementCount
+  kPut, kGet, kInfo, kList, kTotal, kErase, kSetMeta, kGetMeta, kListMeta, kEraseMeta,
+  kStatementCount
 };
 
 // Resets a cached statement when the scope that used it ends, so that it holds no read lock

@@ -46,8 +46,11 @@ struct OccluderOptions {
 
 class Occluders {
  public:
-  // Keeps a reference to `scene`, which must outlive it.
-  explicit Occluders(const Scene& scene, const OccluderOptions& options = {});
+  // Keeps a reference to `scene`, which must outlive it. `known_boxes`: per object its box
+  // (empty where it has none) found beforehand, as a bake does; none given: each is found in
+  // the scene's triangles the first time it is wanted.
+  explicit Occluders(const Scene& scene, const OccluderOptions& options = {},
+                     const std::vector<Bounds3>& known_boxes = {});
   // Resets `map` to the view and rasterises this frame's occluders into it; the time it took,
   // in milliseconds (bench's occlusion_ms).
   double fill(OcclusionMap& map, const View& view, const Frustum& frustum);

@@ -26,6 +26,9 @@ struct BakeRecord {
 
 // Replaces the technique's record (its own metadata write).
 Result<void> write_bake_record(Store& store, const BakeRecord& record);
+// Removes the technique's record: a bake about to replace its blobs first says the pack holds
+// no finished bake of it, so that one killed half-way is never read as finished.
+Result<void> erase_bake_record(Store& store, std::string_view technique);
 // The technique's record; none when the pack holds no finished bake of it. A malformed record
 // is an error naming the pack.
 Result<std::optional<BakeRecord>> read_bake_record(const Store& store, std::string_view technique);

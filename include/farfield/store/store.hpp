@@ -123,6 +123,8 @@ class Store {
   // Text metadata: technique parameters, the scene's fingerprint, bake state.
   Result<void> set_meta(std::string_view key, std::string_view value);
   Result<std::optional<std::string>> get_meta(std::string_view key) const;
+  // Removes the entry, if there is one.
+  Result<void> erase_meta(std::string_view key);
   // Pairs whose keys start with `prefix`, sorted by key.
   Result<std::vector<std::pair<std::string, std::string>>> list_meta(
       std::string_view prefix = "") const;

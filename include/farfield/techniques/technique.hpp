@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -88,13 +89,17 @@ struct BakeShards {
   bool mine(size_t batch) const { return int(batch % size_t(size)) == rank; }
 };
 
+// A headless renderer of the scene, made when first asked for, so that a bake that works
+// without one first (simplifying) does not hold the scene twice meanwhile (the renderer's
+// buffers are a second copy, in memory on llvmpipe).
+using BakeRenderer = std::function<Result<gpu::Renderer*>()>;
+
 struct BakeContext {
   const Scene& scene;
-  Store& store;             // the technique writes its blobs in transactions of its own (a
-                            // shard on ranks other than 0)
-  gpu::Renderer* renderer;  // a headless renderer of the scene for bakes that render
-                            // (TechniqueDescriptor::bake_renders), else null (and on ranks
-                            // other than 0)
+  Store& store;           // the technique writes its blobs in transactions of its own (a
+                          // shard on ranks other than 0)
+  BakeRenderer renderer;  // for bakes that render (TechniqueDescriptor::bake_renders), else
+                          // empty (and on ranks other than 0)
   Progress& progress;
   const BakeShards* shards = nullptr;  // null: one process
 };

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <map>
+#include <numeric>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -101,6 +103,47 @@ Shot render(gpu::Renderer& renderer, const glm::mat4& view_projection, int px,
   return s;
 }
 
+// A set's pages on the renderer (mesh_pages.hpp), each uploaded when first drawn and freed
+// when the caller is past it.
+class PagesOnRenderer {
+ public:
+  PagesOnRenderer(gpu::Renderer& renderer, const Store* store, std::string prefix,
+                  std::span<const MeshPage> pages, std::span<const Vertex> vertices,
+                  std::span<const glm::vec2> uvs, std::span<const uint32_t> indices)
+      : renderer_(renderer), store_(store), prefix_(std::move(prefix)), pages_(pages),
+        vertices_(vertices), uvs_(uvs), indices_(indices) {}
+  ~PagesOnRenderer() { free_before(UINT32_MAX); }
+
+  // Indices [first, first + count) of the set, in page `page`, as a range of its mesh.
+  Result<DrawRange> range(uint32_t page, uint32_t first, uint32_t count, uint32_t material) {
+    auto it = meshes_.find(page);
+    if (it == meshes_.end()) {
+      auto data = mesh_page(store_, prefix_, pages_, page, vertices_, uvs_, indices_);
+      if (!data) return data.error();
+      auto made = renderer_.create_scene_mesh((*data)->vertices, (*data)->uvs, (*data)->indices);
+      if (!made) return made.error();
+      it = meshes_.emplace(page, *made).first;
+    }
+    return DrawRange{first - pages_[page].first_index, count, material, it->second};
+  }
+  void free_before(uint32_t page) {
+    while (!meshes_.empty() && meshes_.begin()->first < page) {
+      renderer_.free(meshes_.begin()->second);
+      meshes_.erase(meshes_.begin());
+    }
+  }
+
+ private:
+  gpu::Renderer& renderer_;
+  const Store* store_;
+  std::string prefix_;
+  std::span<const MeshPage> pages_;
+  std::span<const Vertex> vertices_;
+  std::span<const glm::vec2> uvs_;
+  std::span<const uint32_t> indices_;
+  std::map<uint32_t, MeshHandle> meshes_;
+};
+
 void add_range(const Scene& scene, DrawRange range, DrawList& list) {
   (scene.materials[range.material].transparent() ? list.transparent : list.opaque).push_back(range);
 }
@@ -135,7 +178,7 @@ uint32_t AccuracyTable::nearest(const glm::vec3& towards_viewer) const {
 Result<AccuracyTable> bake_accuracy_table(const Scene& scene, const LodSet& lods,
                                           const ClusterTree& tree, const BoxSet& boxes,
                                           gpu::Renderer& renderer, const AccuracyOptions& o,
-                                          Progress& progress) {
+                                          Progress& progress, const Store* store) {
   if (o.directions < 1 || o.directions > 4096 || o.levels < 1 ||
       (o.resolution_px >> (o.levels - 1)) < 2 || o.resolution_px > 4096)
     return make_error(formatted("accuracy tables: %d directions and %d levels from %d px",
@@ -147,18 +190,13 @@ Result<AccuracyTable> bake_accuracy_table(const Scene& scene, const LodSet& lods
   table.box_error.assign(boxes.boxes.size() * k_count, 0.0f);
   table.node_error.assign(tree.nodes.size() * k_count, 0.0f);
 
-  // The representations go to the renderer as a technique's resources would.
-  MeshHandle lod_mesh, cluster_mesh;
-  if (!lods.indices.empty()) {
-    auto made = renderer.create_scene_mesh(lods.vertices, lods.uvs, lods.indices);
-    if (!made) return made.error();
-    lod_mesh = *made;
-  }
-  if (!tree.indices.empty()) {
-    auto made = renderer.create_scene_mesh(tree.vertices, tree.uvs, tree.indices);
-    if (!made) return made.error();
-    cluster_mesh = *made;
-  }
+  // The representations go to the renderer a page at a time, as a walk's would: the subjects
+  // are taken in page order and a page goes once the subjects after it no longer use it, so
+  // that a scene's levels and clusters are never all in memory at once.
+  PagesOnRenderer lod_pages(renderer, store, kLodPagePrefix, lods.pages, lods.vertices, lods.uvs,
+                            lods.indices);
+  PagesOnRenderer cluster_pages(renderer, store, kTreePagePrefix, tree.pages, tree.vertices,
+                                tree.uvs, tree.indices);
   const BoxMeshes box_mesh = box_meshes(boxes);
   std::vector<MeshHandle> page_meshes;
   std::vector<TextureHandle> page_textures;
@@ -211,7 +249,17 @@ Result<AccuracyTable> bake_accuracy_table(const Scene& scene, const LodSet& lods
   for (const ClusterNode& n : tree.nodes) subjects += n.clustered();
   progress.start("bake accuracy tables", subjects);
 
-  for (uint32_t obj = 0; obj < scene.objects.size(); ++obj) {
+  // Objects by the page of their finest level (those with none last).
+  std::vector<uint32_t> by_page(scene.objects.size());
+  std::iota(by_page.begin(), by_page.end(), 0u);
+  auto first_page = [&](uint32_t obj) {
+    return lods.first_lod[obj] < lods.first_lod[obj + 1] ? lods.lod_page[lods.first_lod[obj]]
+                                                         : UINT32_MAX;
+  };
+  std::stable_sort(by_page.begin(), by_page.end(),
+                   [&](uint32_t l, uint32_t r) { return first_page(l) < first_page(r); });
+  for (size_t i = 0; i < by_page.size(); ++i) {
+    const uint32_t obj = by_page[i];
     const uint32_t begin = lods.first_lod[obj], end = lods.first_lod[obj + 1];
     const uint32_t box = boxes.object_box[obj];
     if (begin == end && box == BoxSet::kNone) continue;
@@ -221,13 +269,13 @@ Result<AccuracyTable> bake_accuracy_table(const Scene& scene, const LodSet& lods
     objects.insert(obj);
     objects.emit(full);
     reps.clear();
-    for (uint32_t l = begin; l < end; ++l)
-      reps.push_back({&table.lod_error[size_t(l) * k_count], [&, l](DrawList& list) {
-                        add_range(scene,
-                                  {lods.lods[l].first_index, lods.lods[l].index_count,
-                                   object.material, lod_mesh},
-                                  list);
-                      }});
+    for (uint32_t l = begin; l < end; ++l) {
+      auto range = lod_pages.range(lods.lod_page[l], lods.lods[l].first_index,
+                                   lods.lods[l].index_count, object.material);
+      if (!range) return range.error();
+      reps.push_back({&table.lod_error[size_t(l) * k_count],
+                      [&, r = *range](DrawList& list) { add_range(scene, r, list); }});
+    }
     if (box != BoxSet::kNone)
       reps.push_back({&table.box_error[size_t(box) * k_count],
                       [&, box](DrawList& list) { box_draw(box, list); }});
@@ -238,9 +286,13 @@ Result<AccuracyTable> bake_accuracy_table(const Scene& scene, const LodSet& lods
         table.lod_error[size_t(l) * k_count + k] = std::max(
             table.lod_error[size_t(l) * k_count + k], table.lod_error[size_t(l - 1) * k_count + k]);
     progress.advance();
+    // The objects after this one begin at their finest level's page.
+    lod_pages.free_before(i + 1 < by_page.size() ? first_page(by_page[i + 1]) : UINT32_MAX);
   }
+  // Nodes are breadth first, their pages in the same order.
   for (uint32_t n = 0; n < tree.nodes.size(); ++n) {
     const ClusterNode& node = tree.nodes[n];
+    cluster_pages.free_before(tree.node_page[n]);
     if (!node.clustered()) continue;
     full.clear();
     objects.clear();
@@ -248,12 +300,15 @@ Result<AccuracyTable> bake_accuracy_table(const Scene& scene, const LodSet& lods
       objects.insert(tree.objects[k]);
     objects.emit(full);
     reps.clear();
+    std::vector<DrawRange> parts;
+    for (uint32_t p = node.parts_begin; p < node.parts_end; ++p) {
+      auto range = cluster_pages.range(tree.node_page[n], tree.parts[p].first_index,
+                                       tree.parts[p].index_count, tree.parts[p].material);
+      if (!range) return range.error();
+      parts.push_back(*range);
+    }
     reps.push_back({&table.node_error[size_t(n) * k_count], [&](DrawList& list) {
-                      for (uint32_t p = node.parts_begin; p < node.parts_end; ++p)
-                        add_range(scene,
-                                  {tree.parts[p].first_index, tree.parts[p].index_count,
-                                   tree.parts[p].material, cluster_mesh},
-                                  list);
+                      for (const DrawRange& r : parts) add_range(scene, r, list);
                     }});
     const uint32_t box = boxes.node_box[n];
     if (box != BoxSet::kNone)
@@ -267,8 +322,6 @@ Result<AccuracyTable> bake_accuracy_table(const Scene& scene, const LodSet& lods
   renderer.set_offscreen(0, 0);
   for (MeshHandle m : page_meshes) renderer.free(m);
   for (TextureHandle t : page_textures) renderer.free(t);
-  if (lod_mesh) renderer.free(lod_mesh);
-  if (cluster_mesh) renderer.free(cluster_mesh);
   return table;
 }
 

@@ -44,6 +44,16 @@ class Reader {
 
 }  // namespace
 
+PartSizes sizes_of(const std::vector<PartList>& items) {
+  PartSizes sizes;
+  for (const PartList& item : items)
+    for (const SimplifiedPart& p : item) {
+      sizes.vertices += p.mesh.vertices.size();
+      sizes.indices += p.mesh.indices.size();
+    }
+  return sizes;
+}
+
 // Per item: its part count, then per part: material, error, sloppy, vertex and index counts,
 // whether it has texture coordinates, then its vertices, texture coordinates and indices.
 std::vector<std::byte> encode_parts(const std::vector<const PartList*>& items) {
@@ -127,7 +137,8 @@ Result<BakeWork> BakeWork::open(Store* store, const std::string& task, const std
 Result<std::vector<PartList>> BakeWork::run(const std::string& label, const std::string& noun,
                                             size_t count, const std::vector<uint32_t>& order,
                                             size_t batch, int threads, Progress& progress,
-                                            const std::function<PartList(uint32_t)>& work) {
+                                            const std::function<PartList(uint32_t)>& work,
+                                            size_t rank0_batches) {
   std::vector<PartList> results(count);
   const size_t batches = (count + batch - 1) / batch;
   // Batches already kept are read; the positions (into `order`) of the others' items are done.
@@ -154,7 +165,8 @@ Result<std::vector<PartList>> BakeWork::run(const std::string& label, const std:
         continue;
       }
     }
-    if (shards_ && !shards_->mine(b)) continue;  // another rank's
+    if (shards_ && !(b < rank0_batches ? shards_->rank == 0 : shards_->mine(b)))
+      continue;  // another rank's
     for (size_t k = first; k < end; ++k) todo.push_back(k);
   }
   if (kept_items > 0)

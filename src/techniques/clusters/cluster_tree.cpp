@@ -100,21 +100,94 @@ uint64_t triangles_of(const Scene& scene, const uint32_t* begin, const uint32_t*
   return sum;
 }
 
-// One cluster's mesh: its objects merged per material, each part simplified to the share of
-// the target that its triangles are.
-std::vector<SimplifiedPart> cluster_mesh(const Scene& scene, std::span<const uint32_t> objects,
-                                         uint64_t target) {
+// An object at `level` of detail: 0 its full geometry, k its k-th level (its coarsest where it
+// has fewer); its triangles and error.
+struct AtLevel {
+  const Lod* lod = nullptr;  // null: the full geometry
+  uint64_t triangles = 0;
+  float error_m = 0;
+};
+AtLevel at_level(const Scene& scene, const LodSet* lods, uint32_t object, uint32_t level) {
+  const uint32_t levels = lods ? lods->first_lod[object + 1] - lods->first_lod[object] : 0;
+  if (level == 0 || levels == 0) return {nullptr, scene.objects[object].index_count / 3, 0.0f};
+  const Lod& lod = lods->lods[lods->first_lod[object] + std::min(level, levels) - 1];
+  return {&lod, lod.index_count / 3, lod.error_m};
+}
+
+// The level the objects beneath a node are simplified from (ClusterTreeOptions::input_triangles):
+// the finest whose triangles are no more than `budget`, else the coarsest.
+uint32_t input_level(const Scene& scene, const LodSet* lods, std::span<const uint32_t> objects,
+                     uint64_t budget) {
+  if (!lods || budget == 0) return 0;
+  uint32_t deepest = 0;
+  for (uint32_t object : objects)
+    deepest = std::max(deepest, lods->first_lod[object + 1] - lods->first_lod[object]);
+  for (uint32_t level = 0;; ++level) {
+    uint64_t triangles = 0;
+    for (uint32_t object : objects) triangles += at_level(scene, lods, object, level).triangles;
+    if (triangles <= budget || level >= deepest) return level;
+  }
+}
+
+// The triangles of `objects` that have `material`, each at `level` (at_level), as one part.
+MeshPart gather_at_level(const Scene& scene, const LodSet* lods, std::span<const uint32_t> objects,
+                         uint32_t material, uint32_t level) {
+  if (level == 0) return gather_part(scene, objects, material);
+  MeshPart part;
+  part.material = material;
+  const bool textured = scene.materials[material].textured();
+  std::vector<uint32_t> full;
+  for (uint32_t object : objects) {
+    if (scene.objects[object].material != material) continue;
+    const AtLevel at = at_level(scene, lods, object, level);
+    if (!at.lod) {
+      full.push_back(object);  // no levels: as it is
+      continue;
+    }
+    // A level's vertices are one run of the set's (lod_set.cpp lays each out whole).
+    const auto first = lods->indices.begin() + at.lod->first_index;
+    const auto [low, high] = std::minmax_element(first, first + at.lod->index_count);
+    const uint32_t base = uint32_t(part.vertices.size());
+    part.vertices.insert(part.vertices.end(), lods->vertices.begin() + *low,
+                         lods->vertices.begin() + *high + 1);
+    if (textured)
+      part.uvs.insert(part.uvs.end(), lods->uvs.begin() + *low, lods->uvs.begin() + *high + 1);
+    for (auto it = first; it != first + at.lod->index_count; ++it)
+      part.indices.push_back(*it - *low + base);
+  }
+  if (!full.empty()) {
+    const MeshPart whole = gather_part(scene, full, material);
+    const uint32_t base = uint32_t(part.vertices.size());
+    part.vertices.insert(part.vertices.end(), whole.vertices.begin(), whole.vertices.end());
+    part.uvs.insert(part.uvs.end(), whole.uvs.begin(), whole.uvs.end());
+    for (uint32_t i : whole.indices) part.indices.push_back(i + base);
+  }
+  return part;
+}
+
+// One cluster's mesh: its objects (at `level`) merged per material, each part simplified to
+// the share of the target that its triangles are; the levels' error added to each part's.
+std::vector<SimplifiedPart> cluster_mesh(const Scene& scene, const LodSet* lods,
+                                         std::span<const uint32_t> objects, uint64_t target,
+                                         uint32_t level) {
   std::vector<uint32_t> materials;
   for (uint32_t object : objects) materials.push_back(scene.objects[object].material);
   std::sort(materials.begin(), materials.end());
   materials.erase(std::unique(materials.begin(), materials.end()), materials.end());
-  const uint64_t total = triangles_of(scene, objects.data(), objects.data() + objects.size());
+  uint64_t total = 0;
+  float level_error = 0.0f;
+  for (uint32_t object : objects) {
+    const AtLevel at = at_level(scene, lods, object, level);
+    total += at.triangles;
+    level_error = std::max(level_error, at.error_m);
+  }
   const double ratio = total > 0 ? double(target) / double(total) : 0.0;
   std::vector<SimplifiedPart> out;
   for (uint32_t material : materials) {
-    const MeshPart part = gather_part(scene, objects, material);
+    const MeshPart part = gather_at_level(scene, lods, objects, material, level);
     if (part.indices.empty()) continue;
     SimplifiedPart simplified = simplify_part(part, {.target_ratio = ratio});
+    simplified.error_m += level_error;
     if (!simplified.mesh.indices.empty() || simplified.error_m > 0)
       out.push_back(std::move(simplified));
   }
@@ -202,8 +275,8 @@ ClusterTree build_cluster_cells(const Scene& scene, const ClusterTreeOptions& o)
 }
 
 Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOptions& o,
-                                       Progress& progress, Store* keep,
-                                       const BakeShards* shards) {
+                                       Progress& progress, Store* keep, const BakeShards* shards,
+                                       const LodSet* lods) {
   if (o.leaf_objects < 1 || o.cluster_triangles < 1 || o.max_depth < 0 || !(o.loose >= 0.0f))
     return make_error("cluster hierarchy options out of range");
   const auto start = std::chrono::steady_clock::now();
@@ -226,25 +299,47 @@ Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOpti
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(),
                    [&](uint32_t l, uint32_t r) { return full[l] > full[r]; });
-  // The plan names what the meshes depend on: the scene, the cells and the targets.
+  // Clusters of more than input_triangles come from the levels: those first in `order`.
+  const uint64_t budget = lods ? o.input_triangles : 0;
+  std::vector<uint32_t> level(node_count, 0);
+  size_t from_levels = 0;  // the first items of `order` that take in every one from the levels
+  for (size_t k = 0; k < node_count; ++k) {
+    const uint32_t n = order[k];
+    const ClusterNode& node = tree.nodes[n];
+    if (target[n] < 1 || budget == 0 || full[n] <= budget) continue;
+    level[n] = input_level(scene, lods,
+                           {tree.objects.data() + node.objects_begin,
+                            node.objects_end - node.objects_begin},
+                           budget);
+    if (level[n] > 0) from_levels = k + 1;
+  }
+  // The plan names what the meshes depend on: the scene, the cells, the targets, and the
+  // levels the largest come from.
   uint64_t digest = scene_fingerprint(scene);
   for (size_t n = 0; n < node_count; ++n)
     digest = digest * 1099511628211ull ^ (uint64_t(tree.nodes[n].objects_end) << 32 ^ target[n]);
+  for (size_t n = 0; n < node_count; ++n)
+    if (level[n] > 0)
+      digest = digest * 1099511628211ull ^ (uint64_t(level[n]) << 32 ^ n ^
+                                            lods->triangle_count() << 40);
   auto work = BakeWork::open(keep, "clusters",
                              formatted("scene %016llx, %zu nodes, targets %016llx",
                                        (unsigned long long)scene_fingerprint(scene), node_count,
                                        (unsigned long long)digest),
                              shards);
   if (!work) return work.error();
-  auto meshes = work->run("simplify clusters", "clusters", node_count, order, 8, o.threads,
-                          progress, [&](uint32_t n) -> PartList {
-                            const ClusterNode& node = tree.nodes[n];
-                            if (target[n] < 1) return {};
-                            return cluster_mesh(scene,
-                                                {tree.objects.data() + node.objects_begin,
-                                                 node.objects_end - node.objects_begin},
-                                                target[n]);
-                          });
+  constexpr size_t kBatch = 8;
+  auto meshes = work->run(
+      "simplify clusters", "clusters", node_count, order, kBatch, o.threads, progress,
+      [&](uint32_t n) -> PartList {
+        const ClusterNode& node = tree.nodes[n];
+        if (target[n] < 1) return {};
+        return cluster_mesh(scene, lods,
+                            {tree.objects.data() + node.objects_begin,
+                             node.objects_end - node.objects_begin},
+                            target[n], level[n]);
+      },
+      (from_levels + kBatch - 1) / kBatch);
   if (!meshes) return meshes.error();
 
   // A cluster the simplifier could not reduce below its objects' triangles is no use.
@@ -254,6 +349,13 @@ Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOpti
     if (triangles == 0 || triangles >= full[n]) (*meshes)[n].clear();
   }
   const bool textured = !scene.uvs.empty();
+  // Reserved whole: the meshes and the tree together stay about one tree's size.
+  const PartSizes sizes = sizes_of(*meshes);
+  if (!sizes.fit_uint32())
+    return make_error("the scene's clusters need more than 2^32 vertices or indices");
+  tree.vertices.reserve(sizes.vertices);
+  if (textured) tree.uvs.reserve(sizes.vertices);
+  tree.indices.reserve(sizes.indices);
   for (size_t n = 0; n < node_count; ++n) {
     ClusterNode& node = tree.nodes[n];
     node.parts_begin = uint32_t(tree.parts.size());
@@ -261,9 +363,6 @@ Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOpti
     uint64_t triangles = 0;
     for (SimplifiedPart& part : (*meshes)[n]) {
       const uint32_t base = uint32_t(tree.vertices.size());
-      if (uint64_t(base) + part.mesh.vertices.size() >= UINT32_MAX ||
-          tree.indices.size() + part.mesh.indices.size() >= UINT32_MAX)
-        return make_error("the scene's clusters need more than 2^32 vertices or indices");
       error = std::max(error, part.error_m);
       if (part.mesh.indices.empty()) continue;  // simplified away: its error stands
       tree.parts.push_back({uint32_t(tree.indices.size()), uint32_t(part.mesh.indices.size()),

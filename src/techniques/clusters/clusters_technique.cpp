@@ -1,5 +1,7 @@
 #include "clusters_technique.hpp"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +11,7 @@
 #include "farfield/core/text.hpp"
 #include "farfield/store/bake_record.hpp"
 #include "farfield/store/store.hpp"
+#include "farfield/techniques/clusters/occluder_boxes.hpp"
 
 namespace farfield {
 
@@ -59,6 +62,17 @@ constexpr SettingSpec kSettings[] = {
      .help = "triangles of a cluster's merged mesh (at most half of its objects')",
      .min = 1,
      .max = 1e7,
+     .baked = true},
+    {.key = "cluster_input_triangles",
+     .type = SettingType::integer,
+     .default_value = "1048576",
+     .help = "a cluster is simplified from at most this many triangles: its objects' full "
+             "geometry where that holds no more, else their finest levels of detail that do "
+             "(their error added to its own), so that a node's work and memory stay bounded on "
+             "any scene; 0: always the full geometry (paper 001, Sec. 4.4: the root takes the "
+             "whole scene at once)",
+     .min = 0,
+     .max = 4e9,
      .baked = true},
     {.key = "boxes",
      .type = SettingType::choice,
@@ -203,7 +217,7 @@ const TechniqueDescriptor clusters_descriptor{
     .paper = "001",
     .settings = kSettings,
     .bake = BakeUse::optional,
-    .bake_format = 6,
+    .bake_format = 7,
     .bake_renders = true,
     .streams = true,
     .distributes = true,
@@ -217,6 +231,7 @@ const TechniqueDescriptor clusters_descriptor{
       o.tree.leaf_objects = uint32_t(v.integer("leaf_objects"));
       o.tree.cluster_triangles = uint32_t(v.integer("cluster_triangles"));
       o.tree.loose = float(v.number("loose"));
+      o.tree.input_triangles = uint64_t(v.integer("cluster_input_triangles"));
       o.tree.threads = o.lods.threads;
       o.boxes = v.text("boxes") != "none";
       o.box.clusters = v.text("boxes") == "all";
@@ -248,6 +263,14 @@ const TechniqueDescriptor clusters_descriptor{
 
 namespace {
 
+// A set's meshes, once saved in pages: its tables stay.
+template <class PagedSet>
+void drop_geometry(PagedSet& set) {
+  set.vertices = {};
+  set.uvs = {};
+  set.indices = {};
+}
+
 size_t count_clusters(const ClusterTree& tree) {
   return size_t(std::count_if(tree.nodes.begin(), tree.nodes.end(),
                               [](const ClusterNode& n) { return n.clustered(); }));
@@ -256,34 +279,59 @@ size_t count_clusters(const ClusterTree& tree) {
 }  // namespace
 
 // Finished objects and clusters are kept in the pack as the bake goes (bake_work.hpp), so a
-// bake killed and run again redoes only the rest; the work goes once the bake is saved.
+// bake killed and run again redoes only the rest; the work goes once the bake is saved. The
+// levels' and clusters' meshes are saved as soon as they are made and leave memory once the
+// clusters are made (the largest from the levels; the accuracy tables read both back a page
+// at a time), so that the bake holds the scene, its renderer, the levels and the clusters'
+// meshes at most, and a cluster's work is bounded (ClusterTreeOptions::input_triangles).
 Result<void> ClustersTechnique::bake(const BakeContext& context) {
+  const bool rank0 = !context.shards || context.shards->rank == 0;
+  // Until it is finished, the pack holds no clusters bake.
+  if (rank0)
+    if (auto ok = erase_bake_record(context.store, "clusters"); !ok) return ok;
+  // Levels laid out in pages of the hierarchy's neighbours (its depth-first order).
+  const std::vector<uint32_t> order = build_cluster_cells(context.scene, options_.tree).objects;
   auto lods = build_lod_set(context.scene, options_.lods, context.progress, &context.store,
-                            context.shards);
+                            context.shards, order);
   if (!lods) return make_error("clusters: ", lods.error().message);
+  if (rank0)
+    if (auto ok = save_lod_set(*lods, context.store); !ok) return ok;
+  // The largest clusters are made from the levels (ClusterTreeOptions::input_triangles).
   auto tree = build_cluster_tree(context.scene, options_.tree, context.progress, &context.store,
-                                 context.shards);
+                                 context.shards, &*lods);
   if (!tree) return make_error("clusters: ", tree.error().message);
+  drop_geometry(*lods);
   // Spread over ranks: the simplification was shared; the rest (boxes and tables, which
   // render, and the final blobs) is rank 0's, from every rank's work.
-  if (context.shards && context.shards->rank != 0) return {};
-  page_lods(*lods, tree->objects);
+  if (!rank0) return {};
+  if (auto ok = save_cluster_tree(*tree, context.store); !ok) return ok;
+  drop_geometry(*tree);
+  malloc_trim(0);  // the simplifiers' many small blocks, freed, back to the system
+  if (auto ok = save_occluder_boxes(
+          find_occluder_boxes(context.scene, options_.lods.threads, context.progress),
+          context.store);
+      !ok)
+    return ok;
+  // The renderer from here on only (BakeRenderer).
+  gpu::Renderer* renderer = nullptr;
+  if ((options_.boxes || options_.accuracy_tables) && context.renderer) {
+    auto made = context.renderer();
+    if (!made) return made.error();
+    renderer = *made;
+  }
   BoxSet boxes;
-  if (options_.boxes && context.renderer) {
-    auto baked =
-        bake_box_set(context.scene, *tree, *context.renderer, options_.box, context.progress);
+  if (options_.boxes && renderer) {
+    auto baked = bake_box_set(context.scene, *tree, *renderer, options_.box, context.progress);
     if (!baked) return make_error("clusters: ", baked.error().message);
     boxes = std::move(*baked);
   }
   AccuracyTable accuracy;
-  if (options_.accuracy_tables && context.renderer) {
-    auto baked = bake_accuracy_table(context.scene, *lods, *tree, boxes, *context.renderer,
-                                     options_.accuracy, context.progress);
+  if (options_.accuracy_tables && renderer) {
+    auto baked = bake_accuracy_table(context.scene, *lods, *tree, boxes, *renderer,
+                                     options_.accuracy, context.progress, &context.store);
     if (!baked) return make_error("clusters: ", baked.error().message);
     accuracy = std::move(*baked);
   }
-  if (auto ok = save_lod_set(*lods, context.store); !ok) return ok;
-  if (auto ok = save_cluster_tree(*tree, context.store); !ok) return ok;
   if (auto ok = save_box_set(boxes, context.store); !ok) return ok;
   if (auto ok = save_accuracy_table(accuracy, context.store); !ok) return ok;
   if (auto erased = context.store.erase("clusters/work/"); !erased) return erased.error();
@@ -318,6 +366,9 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
     if (!boxes) return boxes.error();
     auto accuracy = load_accuracy_table(*context.store, *lods, *tree, *boxes);
     if (!accuracy) return accuracy.error();
+    auto occluder_boxes = load_occluder_boxes(*context.store, context.scene);
+    if (!occluder_boxes) return occluder_boxes.error();
+    occluder_boxes_ = std::move(*occluder_boxes);
     accuracy_px_ = 0.0f;  // unknown: the tables' errors at every scale
     if (auto px = (*record)->settings.find("accuracy_px"); px != (*record)->settings.end())
       accuracy_px_ = std::max(0.0f, std::strtof(px->second.c_str(), nullptr));
@@ -328,12 +379,14 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
     return make_error("clusters: a scene left on disk (--cache-mb) is walked from a clusters "
                       "bake: bake one first (farfield bake SCENE --technique clusters --store "
                       "PACK) and pass --store PACK");
-  auto lods = build_lod_set(context.scene, options_.lods, context.progress);
+  auto lods = build_lod_set(context.scene, options_.lods, context.progress, nullptr, nullptr,
+                            build_cluster_cells(context.scene, options_.tree).objects);
   if (!lods) return make_error("clusters: ", lods.error().message);
-  auto tree = build_cluster_tree(context.scene, options_.tree, context.progress);
+  auto tree = build_cluster_tree(context.scene, options_.tree, context.progress, nullptr, nullptr,
+                                 &*lods);
   if (!tree) return make_error("clusters: ", tree.error().message);
-  page_lods(*lods, tree->objects);
   // Boxes are rendered by a bake; without one there are none.
+  occluder_boxes_.clear();
   return use(std::move(*lods), std::move(*tree), BoxSet{}, AccuracyTable{}, context);
 }
 
@@ -384,14 +437,15 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   full_ = std::make_unique<ObjectSet>(scene);
   occluders_.reset();
   mesh_occluders_.reset();
-  // With the scene on disk its triangles, which both kinds of occluder are found in, are not
-  // at hand: no occlusion.
-  const bool occlusion = options_.occlusion && !stream_;
-  if (occlusion && options_.occluders != ClustersOptions::Occluders::meshes)
-    occluders_ = std::make_unique<Occluders>(scene);
-  if (occlusion && options_.occluders != ClustersOptions::Occluders::boxes)
-    mesh_occluders_ =
-        std::make_unique<Occluders>(scene, OccluderOptions{.per_frame = 128, .meshes = true});
+  // With the scene on disk its triangles are not at hand: the bake's boxes are the occluders
+  // (none in a pack made without them).
+  if (options_.occlusion && (!stream_ || !occluder_boxes_.empty())) {
+    if (stream_ || options_.occluders != ClustersOptions::Occluders::meshes)
+      occluders_ = std::make_unique<Occluders>(scene, OccluderOptions{}, occluder_boxes_);
+    if (!stream_ && options_.occluders != ClustersOptions::Occluders::boxes)
+      mesh_occluders_ = std::make_unique<Occluders>(
+          scene, OccluderOptions{.per_frame = 128, .meshes = true}, occluder_boxes_);
+  }
   frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = switches_ = boxes_drawn_ = 0;
   coarser_frames_ = stood_in_ = 0;
   cost_ = {};

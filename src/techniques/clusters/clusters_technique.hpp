@@ -88,6 +88,7 @@ class ClustersTechnique final : public Technique {
   std::vector<Choice> choices_;
   std::unique_ptr<ClusterStream> stream_;  // the scene on disk: meshes streamed, else null
   std::vector<ClusterStream::Placed> placed_, streamed_whole_;
+  std::vector<Bounds3> occluder_boxes_;        // per object, from the bake; empty: none baked
   std::unique_ptr<Occluders> occluders_;       // boxes; null: none (clusters.occlusion=0)
   std::unique_ptr<Occluders> mesh_occluders_;  // the objects' own triangles
   OcclusionMap occlusion_;

@@ -38,14 +38,78 @@ std::vector<SimplifiedPart> lod_chain(const Scene& scene, uint32_t object, const
   return chain;
 }
 
+// The chains (per object, finest first) laid out in pages of neighbours in `order` (lod_set.hpp),
+// each group's chains freed once laid out, so that the chains and the set together stay about
+// one set's size (the arrays reserved whole: `vertices`, `indices` in all).
+LodSet lay_out_pages(std::vector<PartList>& chains, std::span<const uint32_t> order,
+                     uint64_t page_triangles, bool textured, size_t vertices, size_t indices) {
+  LodSet set;
+  set.vertices.reserve(vertices);
+  if (textured) set.uvs.reserve(vertices);
+  set.indices.reserve(indices);
+  const size_t objects = chains.size();
+  set.first_lod.reserve(objects + 1);
+  for (size_t i = 0; i < objects; ++i) {
+    set.first_lod.push_back(uint32_t(set.lods.size()));
+    for (const SimplifiedPart& lod : chains[i])
+      set.lods.push_back({uint32_t(i), 0, uint32_t(lod.mesh.indices.size()), lod.error_m});
+  }
+  set.first_lod.push_back(uint32_t(set.lods.size()));
+  set.lod_page.assign(set.lods.size(), 0);
+  std::vector<uint32_t> index_ends;
+  for (size_t begin = 0; begin < order.size();) {
+    size_t end = begin;
+    for (uint64_t triangles = 0; end < order.size() && (end == begin || triangles < page_triangles);
+         ++end)
+      if (!chains[order[end]].empty()) triangles += chains[order[end]][0].mesh.triangle_count();
+    for (uint32_t level = 0;; ++level) {
+      bool any = false;
+      for (size_t i = begin; i < end; ++i) {
+        const uint32_t object = order[i];
+        if (level >= chains[object].size()) continue;
+        any = true;
+        const MeshPart& mesh = chains[object][level].mesh;
+        const uint32_t k = set.first_lod[object] + level;
+        const size_t base = set.vertices.size();
+        set.lods[k].first_index = uint32_t(set.indices.size());
+        set.lod_page[k] = uint32_t(index_ends.size());
+        set.vertices.insert(set.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
+        if (textured) {
+          if (mesh.uvs.empty())
+            set.uvs.resize(set.vertices.size());
+          else
+            set.uvs.insert(set.uvs.end(), mesh.uvs.begin(), mesh.uvs.end());
+        }
+        for (uint32_t v : mesh.indices) set.indices.push_back(uint32_t(base + v));
+      }
+      if (!any) break;
+      index_ends.push_back(uint32_t(set.indices.size()));
+    }
+    for (size_t i = begin; i < end; ++i) chains[order[i]] = {};
+    begin = end;
+  }
+  set.pages = pages_of_runs(set.indices, uint32_t(set.vertices.size()), index_ends);
+  return set;
+}
+
 }  // namespace
 
 Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progress& progress,
-                             Store* keep, const BakeShards* shards) {
+                             Store* keep, const BakeShards* shards,
+                             std::span<const uint32_t> page_order) {
   if (o.max_levels < 1 || o.min_reduction <= 0 || o.min_reduction >= 1)
     return make_error("LOD chains need at least one level and a reduction in (0, 1)");
   const auto start = std::chrono::steady_clock::now();
   const size_t objects = scene.objects.size();
+  std::vector<uint32_t> scene_order;
+  if (page_order.empty()) {
+    scene_order.resize(objects);
+    std::iota(scene_order.begin(), scene_order.end(), 0u);
+  }
+  const std::span<const uint32_t> order_of_pages = page_order.empty() ? scene_order : page_order;
+  if (order_of_pages.size() != objects)
+    return make_error(formatted("LOD pages: an order of %zu objects for a scene of %zu",
+                                order_of_pages.size(), objects));
   auto work = BakeWork::open(keep, "lods",
                              formatted("scene %016llx, %d levels, %u triangles, reduction %.17g",
                                        (unsigned long long)scene_fingerprint(scene), o.max_levels,
@@ -62,83 +126,13 @@ Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progres
                           [&](uint32_t i) { return lod_chain(scene, i, o); });
   if (!chains) return chains.error();
 
-  LodSet set;
-  const bool textured = !scene.uvs.empty();
-  set.first_lod.reserve(objects + 1);
-  for (size_t i = 0; i < objects; ++i) {
-    set.first_lod.push_back(uint32_t(set.lods.size()));
-    for (SimplifiedPart& lod : (*chains)[i]) {
-      const uint32_t base = uint32_t(set.vertices.size());
-      if (uint64_t(base) + lod.mesh.vertices.size() >= UINT32_MAX ||
-          set.indices.size() + lod.mesh.indices.size() >= UINT32_MAX)
-        return make_error("the scene's LODs need more than 2^32 vertices or indices");
-      set.lods.push_back({uint32_t(i), uint32_t(set.indices.size()),
-                          uint32_t(lod.mesh.indices.size()), lod.error_m});
-      set.vertices.insert(set.vertices.end(), lod.mesh.vertices.begin(), lod.mesh.vertices.end());
-      if (textured) {
-        if (lod.mesh.uvs.empty())
-          set.uvs.resize(set.vertices.size());
-        else
-          set.uvs.insert(set.uvs.end(), lod.mesh.uvs.begin(), lod.mesh.uvs.end());
-      }
-      for (uint32_t v : lod.mesh.indices) set.indices.push_back(base + v);
-    }
-    (*chains)[i] = {};
-  }
-  set.first_lod.push_back(uint32_t(set.lods.size()));
-  std::vector<uint32_t> scene_order(objects);
-  std::iota(scene_order.begin(), scene_order.end(), 0u);
-  page_lods(set, scene_order);
+  const PartSizes sizes = sizes_of(*chains);
+  if (!sizes.fit_uint32())
+    return make_error("the scene's LODs need more than 2^32 vertices or indices");
+  LodSet set = lay_out_pages(*chains, order_of_pages, o.page_triangles, !scene.uvs.empty(),
+                             sizes.vertices, sizes.indices);
   set.bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return set;
-}
-
-void page_lods(LodSet& set, std::span<const uint32_t> order, uint64_t page_triangles) {
-  std::vector<Vertex> vertices;
-  std::vector<glm::vec2> uvs;
-  std::vector<uint32_t> indices, index_ends;
-  vertices.reserve(set.vertices.size());
-  uvs.reserve(set.uvs.size());
-  indices.reserve(set.indices.size());
-  set.lod_page.assign(set.lods.size(), 0);
-  for (size_t begin = 0; begin < order.size();) {
-    size_t end = begin;
-    for (uint64_t triangles = 0; end < order.size() && (end == begin || triangles < page_triangles);
-         ++end) {
-      const uint32_t object = order[end];
-      if (set.first_lod[object] < set.first_lod[object + 1])
-        triangles += set.lods[set.first_lod[object]].index_count / 3;
-    }
-    for (uint32_t level = 0;; ++level) {
-      bool any = false;
-      for (size_t i = begin; i < end; ++i) {
-        const uint32_t k = set.first_lod[order[i]] + level;
-        if (k >= set.first_lod[order[i] + 1]) continue;
-        any = true;
-        Lod& lod = set.lods[k];
-        // A level's vertices are one run, as it was appended.
-        const auto first = set.indices.begin() + lod.first_index;
-        const auto [low, high] = std::minmax_element(first, first + lod.index_count);
-        const uint32_t base = uint32_t(vertices.size());
-        vertices.insert(vertices.end(), set.vertices.begin() + *low,
-                        set.vertices.begin() + *high + 1);
-        if (!set.uvs.empty())
-          uvs.insert(uvs.end(), set.uvs.begin() + *low, set.uvs.begin() + *high + 1);
-        const uint32_t from = *low;
-        lod.first_index = uint32_t(indices.size());
-        for (auto it = first; it != first + lod.index_count; ++it)
-          indices.push_back(*it - from + base);
-        set.lod_page[k] = uint32_t(index_ends.size());
-      }
-      if (!any) break;
-      index_ends.push_back(uint32_t(indices.size()));
-    }
-    begin = end;
-  }
-  set.pages = pages_of_runs(indices, uint32_t(vertices.size()), index_ends);
-  set.vertices = std::move(vertices);
-  set.uvs = std::move(uvs);
-  set.indices = std::move(indices);
 }
 
 Result<void> save_lod_set(const LodSet& set, Store& store) {

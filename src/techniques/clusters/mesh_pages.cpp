@@ -133,6 +133,29 @@ Result<std::shared_ptr<SceneMeshData>> read_mesh_page(const Store& store,
   return data;
 }
 
+Result<std::shared_ptr<SceneMeshData>> mesh_page(const Store* store, const std::string& prefix,
+                                                 std::span<const MeshPage> pages, uint32_t page,
+                                                 std::span<const Vertex> vertices,
+                                                 std::span<const glm::vec2> uvs,
+                                                 std::span<const uint32_t> indices) {
+  FF_ASSERT(page < pages.size(), "page %u of %zu", page, pages.size());
+  const MeshPage& p = pages[page];
+  if (indices.empty()) {
+    if (!store) return make_error("page ", std::to_string(page), " of '", prefix,
+                                  "' is neither in memory nor in a pack");
+    return read_mesh_page(*store, prefix, page, p);
+  }
+  auto data = std::make_shared<SceneMeshData>();
+  data->vertices.assign(vertices.begin() + p.first_vertex,
+                        vertices.begin() + p.first_vertex + p.vertex_count);
+  if (!uvs.empty())
+    data->uvs.assign(uvs.begin() + p.first_vertex, uvs.begin() + p.first_vertex + p.vertex_count);
+  data->indices.reserve(p.index_count);
+  for (uint32_t i = p.first_index; i < p.first_index + p.index_count; ++i)
+    data->indices.push_back(indices[i] - p.first_vertex);
+  return data;
+}
+
 Result<void> read_mesh_pages(const Store& store, const std::string& prefix,
                              std::span<const MeshPage> pages,
                              std::vector<Vertex>& vertices, std::vector<glm::vec2>& uvs,

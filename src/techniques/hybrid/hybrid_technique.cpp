@@ -176,6 +176,8 @@ Result<HybridStorage> hybrid_storage(const Store& store) {
 // is one transaction: a bake killed and run again goes on from the viewpoints it has.
 Result<void> HybridTechnique::bake(const BakeContext& context) {
   if (!context.renderer) return make_error("hybrid: the bake needs a renderer");
+  auto made_renderer = context.renderer();
+  if (!made_renderer) return made_renderer.error();
   const Scene& scene = context.scene;
   Store& store = context.store;
   if (scene.triangle_count() > UINT32_MAX)
@@ -190,7 +192,7 @@ Result<void> HybridTechnique::bake(const BakeContext& context) {
   everything.insert_all();
   DrawList list;
   everything.emit(list);
-  gpu::Renderer& renderer = *context.renderer;
+  gpu::Renderer& renderer = **made_renderer;
   renderer.set_offscreen(options_.width, options_.height);
   context.progress.start("bake hybrid viewpoints", sphere_.count());
   for (uint32_t id = 0; id < sphere_.count(); ++id) {

@@ -200,6 +200,8 @@ Result<IbrStorage> ibr_storage(const Store& store) {
 // so a bake killed and run again goes on from the viewpoints it has.
 Result<void> IbrTechnique::bake(const BakeContext& context) {
   if (!context.renderer) return make_error("ibr: the bake needs a renderer");
+  auto made_renderer = context.renderer();
+  if (!made_renderer) return made_renderer.error();
   const Scene& scene = context.scene;
   Store& store = context.store;
   auto sphere = sphere_for(scene, options_, fov_deg_);
@@ -217,7 +219,7 @@ Result<void> IbrTechnique::bake(const BakeContext& context) {
   view.width = view.height = options_.resolution;
   view.hfov_deg = fov_deg_;
   view.near_m = near_plane_for(scene.bounds);
-  gpu::Renderer& renderer = *context.renderer;
+  gpu::Renderer& renderer = **made_renderer;
   renderer.set_offscreen(view.width, view.height);
   context.progress.start("bake ibr viewpoints", sphere_.count());
   for (uint32_t id = 0; id < sphere_.count(); ++id) {

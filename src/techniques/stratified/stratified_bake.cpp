@@ -194,8 +194,10 @@ Result<void> StratifiedTechnique::bake(const BakeContext& context) {
   const Scene& scene = context.scene;
   Store& store = context.store;
   Progress& progress = context.progress;
-  FF_ASSERT(context.renderer != nullptr, "the stratified bake renders: it needs a renderer");
-  gpu::Renderer& renderer = *context.renderer;
+  FF_ASSERT(bool(context.renderer), "the stratified bake renders: it needs a renderer");
+  auto made_renderer = context.renderer();
+  if (!made_renderer) return made_renderer.error();
+  gpu::Renderer& renderer = **made_renderer;
   const auto start = std::chrono::steady_clock::now();
   std::optional<CameraPath> path;
   if (!options_.path.empty()) {

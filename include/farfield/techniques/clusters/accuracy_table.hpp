@@ -67,11 +67,12 @@ struct AccuracyTable {
 };
 
 // Renders with `renderer` (a renderer of `scene`); the levels' errors are made non-decreasing
-// along each chain, direction by direction.
+// along each chain, direction by direction. The levels' and clusters' meshes are taken a page
+// at a time from the sets where they hold them, else from `store`, where they were saved.
 Result<AccuracyTable> bake_accuracy_table(const Scene& scene, const LodSet& lods,
                                           const ClusterTree& tree, const BoxSet& boxes,
                                           gpu::Renderer& renderer, const AccuracyOptions& options,
-                                          Progress& progress);
+                                          Progress& progress, const Store* store = nullptr);
 
 // Blobs "clusters/accuracy_*" and back; a pack without them holds no table (an empty one).
 // Refused: arrays that do not match the levels, boxes and nodes, or errors not finite.

@@ -7,6 +7,7 @@
 // whose work is erased. The final blobs replace the work when the bake ends.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -22,6 +23,13 @@ class Store;
 
 using PartList = std::vector<SimplifiedPart>;
 
+// The vertices and indices of every part of `items` (to reserve the arrays they go to).
+struct PartSizes {
+  uint64_t vertices = 0, indices = 0;
+  bool fit_uint32() const { return vertices < UINT32_MAX && indices < UINT32_MAX; }
+};
+PartSizes sizes_of(const std::vector<PartList>& items);
+
 class BakeWork {
  public:
   // Without a store nothing is kept (a technique loaded without a pack makes its own).
@@ -36,10 +44,13 @@ class BakeWork {
   // instead, and said ("N of M `noun` already kept"). Shows progress as `label`. Spread over
   // ranks: this rank's batches only; then, once every rank is done (a barrier), rank 0 takes
   // the others' batches in from their shards and returns every item, other ranks their own.
+  // The first `rank0_batches` batches are rank 0's whatever the ranks (work that needs what
+  // only rank 0 holds).
   Result<std::vector<PartList>> run(const std::string& label, const std::string& noun, size_t count,
                                     const std::vector<uint32_t>& order, size_t batch, int threads,
                                     Progress& progress,
-                                    const std::function<PartList(uint32_t)>& work);
+                                    const std::function<PartList(uint32_t)>& work,
+                                    size_t rank0_batches = 0);
 
   // The task's work blobs, once the final ones are written.
   Result<void> erase();

@@ -6,7 +6,11 @@
 // the real objects (never from the clusters below it) by scene/simplify, with its geometric error
 // in metres (a modern HLOD: the paper's cluster representation is a textured box; this is the
 // geometric one beside it). A node's error is never below its children's, so that refining never
-// makes the error worse.
+// makes the error worse. Where the objects beneath a node hold more than
+// ClusterTreeOptions::input_triangles, its mesh is simplified from their finest levels of detail
+// that hold no more (the levels' error added to its own: a distance between surfaces obeys the
+// triangle inequality), so that a node's work and memory stay bounded whatever the scene's size
+// (the root of a 100M-triangle city would otherwise simplify all of it at once).
 #pragma once
 
 #include <cstdint>
@@ -18,6 +22,7 @@
 #include "farfield/core/progress.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/scene/scene.hpp"
+#include "farfield/techniques/clusters/lod_set.hpp"
 #include "farfield/techniques/clusters/mesh_pages.hpp"
 
 namespace farfield {
@@ -56,6 +61,10 @@ struct ClusterTreeOptions {
   // this share of its size on every side; 0: the paper's cells (an object across a middle
   // stays in the cell, so a city's root holds every object on its two middle lines).
   float loose = 0.5f;
+  // A cluster is simplified from at most this many triangles of its objects: their full
+  // geometry where it holds no more, else their finest levels that do (the coarsest where none
+  // does); 0: always the full geometry (the paper's, whose root takes the whole scene).
+  uint64_t input_triangles = uint64_t(1) << 20;
   int threads = 0;  // 0: all cores
 };
 
@@ -79,9 +88,13 @@ struct ClusterTree {
 ClusterTree build_cluster_cells(const Scene& scene, const ClusterTreeOptions& options);
 // The cells and every cluster's mesh (clusters_triangles each, at most half of its objects').
 // `keep`: a pack where finished clusters are kept as the work goes (as build_lod_set's).
+// `lods`: the objects' levels (with their meshes) for the clusters of more than
+// input_triangles; null: every cluster from the full geometry. Spread over ranks, those
+// clusters are rank 0's (the only one to hold every level).
 Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOptions& options,
                                        Progress& progress, Store* keep = nullptr,
-                                       const BakeShards* shards = nullptr);
+                                       const BakeShards* shards = nullptr,
+                                       const LodSet* lods = nullptr);
 
 // Blobs under "clusters/tree_*" (the pages `clusters/tree_pages`, `clusters/tree_page/N`) and
 // back, refusing a missing or inconsistent tree (children or ranges past the arrays, meshes

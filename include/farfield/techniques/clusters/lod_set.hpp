@@ -29,17 +29,21 @@ struct Lod {
 };
 static_assert(sizeof(Lod) == 16);
 
+// A group of neighbouring objects' levels of one rank (their finest, their second, ...) is
+// one page (mesh_pages.hpp): what a walk loads at once, and one range of indices, so that
+// neighbours drawn at the same level are one draw, where a draw costs as much as hundreds of
+// triangles on llvmpipe. Groups are consecutive objects of the page order (the hierarchy's
+// depth-first order, whose neighbours are near each other) whose finest levels hold about
+// page_triangles.
+inline constexpr uint64_t kLodPageTriangles = 32768;
+
 struct LodSetOptions {
   int max_levels = 6;          // simplified levels an object may have
   uint32_t min_triangles = 8;  // an object this small gets no (further) level
   double min_reduction = 0.8;  // a level keeps at most this share of the previous one's triangles
   int threads = 0;             // 0: all cores
+  uint64_t page_triangles = kLodPageTriangles;  // of a group's finest levels (below)
 };
-
-// A group of neighbouring objects' levels of one rank (their finest, their second, ...) is
-// one page (mesh_pages.hpp): what a walk loads at once, and one range of indices, so that
-// neighbours drawn at the same level are one draw.
-inline constexpr uint64_t kLodPageTriangles = 32768;  // of a group's finest levels
 
 struct LodSet {
   std::vector<Vertex> vertices;  // empty where loaded GeometryLoad::index_only
@@ -53,19 +57,14 @@ struct LodSet {
   uint64_t triangle_count() const { return triangles_of_pages(pages); }
 };
 
-// Laid out in pages in scene order. `keep`: a pack where finished chains are kept as the work goes, so that a bake killed and
-// run again redoes only the rest (bake_work.hpp); null: nothing kept.
-// `shards`: the bake is spread over ranks (technique.hpp); other ranks than 0 get their share.
+// Laid out in pages of groups of neighbours in `page_order` (every object once; empty: scene
+// order), each group's levels a page each, finest first. `keep`: a pack where finished chains
+// are kept as the work goes, so that a bake killed and run again redoes only the rest
+// (bake_work.hpp); null: nothing kept. `shards`: the bake is spread over ranks
+// (technique.hpp); other ranks than 0 get their share.
 Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& options, Progress& progress,
-                             Store* keep = nullptr, const BakeShards* shards = nullptr);
-
-// Lays the set out again in pages of neighbours in `order` (the hierarchy's, whose
-// neighbours are near each other): groups of consecutive objects whose finest levels hold
-// about `page_triangles`, each group's levels a page each, finest first. Neighbours drawn at
-// the same level are then one range of indices: one draw, where a draw costs as much as
-// hundreds of triangles on llvmpipe.
-void page_lods(LodSet& set, std::span<const uint32_t> order,
-               uint64_t page_triangles = kLodPageTriangles);
+                             Store* keep = nullptr, const BakeShards* shards = nullptr,
+                             std::span<const uint32_t> page_order = {});
 
 // Blobs under "clusters/lod*" (replacing a set there: the levels `clusters/lods` and the pages
 // `clusters/lod_pages`, `clusters/lod_page/N`) and back, refusing a missing or inconsistent

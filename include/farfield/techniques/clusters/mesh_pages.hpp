@@ -65,6 +65,13 @@ Result<std::vector<MeshPage>> load_mesh_page_table(const Store& store, const std
 Result<std::shared_ptr<SceneMeshData>> read_mesh_page(const Store& store,
                                                       const std::string& prefix, uint32_t page,
                                                       const MeshPage& expected);
+// Page `page` of a set as above: sliced from the set's arrays where it holds them (non-empty
+// indices), else read from `store` (null: an error), where the set was saved under `prefix`.
+Result<std::shared_ptr<SceneMeshData>> mesh_page(const Store* store, const std::string& prefix,
+                                                 std::span<const MeshPage> pages, uint32_t page,
+                                                 std::span<const Vertex> vertices,
+                                                 std::span<const glm::vec2> uvs,
+                                                 std::span<const uint32_t> indices);
 // Every page end to end, indices absolute (texture coordinates where every page has them).
 Result<void> read_mesh_pages(const Store& store, const std::string& prefix,
                              std::span<const MeshPage> pages,
