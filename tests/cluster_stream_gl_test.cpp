@@ -211,6 +211,35 @@ TEST(ClusterStreamGL, CullsWithTheBakesOccluderBoxes) {
   EXPECT_EQ(culled, triangles({}, true));
 }
 
+// Walking down a street, pages asked for ahead of the motion are loaded before the frames
+// that draw them want them: fewer misses than without prefetching, the frames the same.
+TEST(ClusterStreamGL, PrefetchingAlongTheMotionMissesLess) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << "no GL context";
+  auto walk = [&](const char* prefetch, std::vector<Image>& frames) {
+    Walks w;
+    load_walks(w, {"clusters.wait=1", prefetch}, uint64_t(256) << 20);
+    View view;
+    view.width = 160;
+    view.height = 120;
+    for (int frame = 0; frame < 30; ++frame) {
+      view.pose = {{8.0f, 1.9f, 8.0f + 3.0f * float(frame)}, 0.0f, 0.0f};
+      frames.push_back(draw(*w.streamed, *w.from_disk, view, uint64_t(frame)));
+    }
+    EXPECT_EQ(test::figure(*w.from_disk, "coarser_frames"), 0);
+    return std::pair(test::figure(*w.from_disk, "cache_misses"),
+                     test::figure(*w.from_disk, "cache_prefetches"));
+  };
+  std::vector<Image> ahead_frames, plain_frames;
+  const auto [ahead_misses, prefetches] = walk("clusters.prefetch_frames=15", ahead_frames);
+  const auto [plain_misses, none] = walk("clusters.prefetch_frames=0", plain_frames);
+  EXPECT_GT(prefetches, 0);
+  EXPECT_EQ(none, 0);
+  EXPECT_LT(ahead_misses, plain_misses);
+  for (size_t f = 0; f < plain_frames.size(); ++f)
+    EXPECT_TRUE(compare_images(ahead_frames[f], plain_frames[f]).identical()) << "frame " << f;
+}
+
 TEST(ClusterStreamGL, ADamagedPageIsNamedWhileWalking) {
   auto context = gpu::create_headless_context();
   if (!context) GTEST_SKIP() << "no GL context";

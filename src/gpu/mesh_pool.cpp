@@ -42,6 +42,7 @@ struct MeshPool::State {
   std::string failure;
   uint64_t frame = 0;
   std::vector<std::pair<float, uint64_t>> misses;  // this frame's, with their priorities
+  std::vector<std::pair<float, uint64_t>> ahead;   // this frame's prefetches, likewise
   MeshPoolCounters counters;
 
   // Shared with the loader thread.
@@ -145,6 +146,13 @@ std::optional<MeshHandle> MeshPool::want(uint64_t key, float priority) {
   return std::nullopt;
 }
 
+void MeshPool::prefetch(uint64_t key, float priority) {
+  State& s = *s_;
+  if (s.resident.contains(key) || s.failed.contains(key)) return;
+  ++s.counters.prefetches;
+  s.ahead.push_back({priority, key});
+}
+
 std::optional<MeshHandle> MeshPool::peek(uint64_t key) {
   State& s = *s_;
   auto it = s.resident.find(key);
@@ -156,15 +164,19 @@ std::optional<MeshHandle> MeshPool::peek(uint64_t key) {
 uint64_t MeshPool::end_frame(DrawList& out) {
   State& s = *s_;
   std::vector<Loaded> done;
-  // Highest priority last (the loader takes from the back); one entry a key.
-  std::stable_sort(s.misses.begin(), s.misses.end(),
-                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  // Highest priority last (the loader takes from the back), the prefetches after every want;
+  // one entry a key.
+  auto by_priority = [](const auto& a, const auto& b) { return a.first > b.first; };
+  std::stable_sort(s.misses.begin(), s.misses.end(), by_priority);
+  std::stable_sort(s.ahead.begin(), s.ahead.end(), by_priority);
   std::unordered_set<uint64_t> asked;
   std::vector<uint64_t> queue;
-  for (const auto& [priority, key] : s.misses)
-    if (asked.insert(key).second) queue.push_back(key);
+  for (const auto* asks : {&s.misses, &s.ahead})
+    for (const auto& [priority, key] : *asks)
+      if (asked.insert(key).second) queue.push_back(key);
   const uint64_t missed = s.misses.size();
   s.misses.clear();
+  s.ahead.clear();
   {
     std::lock_guard lock(s.mutex);
     done.swap(s.done);

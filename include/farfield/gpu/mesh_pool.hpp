@@ -5,8 +5,8 @@
 //
 // Each frame, on the thread that selects: want() every item the frame would draw (it answers
 // with the item's mesh where it is resident: a frame never waits for the disk), then
-// end_frame(), which asks the loader for the missing ones, highest priority first (what was
-// not wanted this frame is no longer asked for), takes in what it has loaded, evicting the
+// end_frame(), which asks the loader for the missing ones, highest priority first, then for
+// those prefetched (what was not wanted or prefetched this frame is no longer asked for), takes in what it has loaded, evicting the
 // least recently wanted items not wanted this frame to make room, and puts their uploads in the
 // frame's DrawList (the renderer replaces a pool mesh's buffers with them before it draws). An
 // item taken in is drawn from the next frame on. A pool mesh is a scene mesh of the device,
@@ -38,6 +38,7 @@ struct MeshPoolOptions {
 struct MeshPoolCounters {
   uint64_t hits = 0;        // wants answered with a resident mesh
   uint64_t misses = 0;      // wants of an item not resident
+  uint64_t prefetches = 0;  // prefetches of an item not resident
   uint64_t bytes_read = 0;  // bytes the loader delivered
   uint64_t loads = 0, evictions = 0;
   uint64_t resident_bytes = 0, resident_items = 0;
@@ -58,6 +59,10 @@ class MeshPool {
   // The item's mesh when resident; else it is asked for at end_frame with this priority
   // (higher first). Wanting a resident item keeps it from eviction this frame.
   std::optional<MeshHandle> want(uint64_t key, float priority);
+  // Asks for an item the caller expects to want soon (the walk's predicted motion): where it
+  // is not resident it is asked for at end_frame after every want of the frame, by this
+  // priority; it counts as neither a hit nor a miss and keeps nothing from eviction.
+  void prefetch(uint64_t key, float priority);
   // The item's mesh when resident (kept from eviction this frame, as by want), without
   // counting a hit or asking for it: a stand-in looked for where a wanted item is missing.
   std::optional<MeshHandle> peek(uint64_t key);

@@ -138,6 +138,27 @@ std::optional<MeshHandle> ClusterStream::chunk(uint32_t chunk, float priority, b
   return ask ? pool_->want(key, priority) : pool_->peek(key);
 }
 
+void ClusterStream::prefetch(std::span<const Choice> choices, const glm::vec3& eye) {
+  for (const Choice& c : choices) switch (c.kind) {
+      case Choice::Kind::cluster:
+        if (const uint32_t page = tree_.node_page[c.index]; page >= pinned_pages_)
+          pool_->prefetch(key_of(Item::tree_page, page),
+                          -distance_to(tree_.nodes[c.index].bounds, eye));
+        break;
+      case Choice::Kind::lod:
+        pool_->prefetch(
+            key_of(Item::lod_page, lods_.lod_page[c.index]),
+            -distance_to(scene_.index().objects[lods_.lods[c.index].object].bounds, eye));
+        break;
+      case Choice::Kind::whole:
+        pool_->prefetch(key_of(Item::chunk, scene_.chunk_of(c.index)),
+                        -distance_to(scene_.index().objects[c.index].bounds, eye));
+        break;
+      case Choice::Kind::box:
+        break;  // always resident
+    }
+}
+
 uint32_t ClusterStream::anchor(const Choice& c) const {
   switch (c.kind) {
     case Choice::Kind::cluster:

@@ -200,6 +200,15 @@ constexpr SettingSpec kSettings[] = {
      .help = "with the scene left on disk (--cache-mb): wait until every page the frame "
              "chose is loaded, so that nothing is drawn coarser than chosen (for references "
              "and tests); 0: stand in the nearest coarser resident representation, never wait"},
+    {.key = "prefetch_frames",
+     .type = SettingType::integer,
+     .default_value = "15",
+     .help = "with the scene left on disk (--cache-mb): every fourth frame, the hierarchy is "
+             "also selected for where the viewer will be this many frames ahead at its present "
+             "velocity, and what that selection draws is asked for after the frame's own "
+             "pages (the nearest first); 0: no prefetch",
+     .min = 0,
+     .max = 1000},
     {.key = "threads",
      .type = SettingType::integer,
      .default_value = "0",
@@ -250,6 +259,7 @@ const TechniqueDescriptor clusters_descriptor{
                    float(v.number("benefit_speed")), float(v.number("benefit_semantics"))};
       o.hysteresis = v.integer("hysteresis");
       o.wait = v.flag("wait");
+      o.prefetch_frames = v.integer("prefetch_frames");
       o.occlusion = v.flag("occlusion");
       o.occluders = v.text("occluders") == "boxes"    ? ClustersOptions::Occluders::boxes
                     : v.text("occluders") == "meshes" ? ClustersOptions::Occluders::meshes
@@ -440,6 +450,10 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
     box_count_ = std::move(meshes.index_count);
   }
   selection_ = std::make_unique<ClusterSelection>(scene, tree_, lods_, &boxes_);
+  ahead_selection_.reset();
+  ahead_choices_.clear();
+  if (stream_ && options_.prefetch_frames > 0)
+    ahead_selection_ = std::make_unique<ClusterSelection>(scene, tree_, lods_, &boxes_);
   full_ = std::make_unique<ObjectSet>(scene);
   occluders_.reset();
   mesh_occluders_.reset();
@@ -523,6 +537,19 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   const SelectionStats stats = selection_->select(sv, options_.traversal, choices_);
   visited_ += stats.nodes_visited;
   switches_ += stats.switches;
+  if (ahead_selection_ && glm::length(sv.velocity) == 0.0f) ahead_choices_.clear();
+  if (ahead_selection_ && frames_ % 4 == 1 && glm::length(sv.velocity) > 0.0f) {
+    // Issue 16: prefetched from the predicted motion, the view held as it is.
+    View ahead = view;
+    ahead.pose.position += sv.velocity * float(options_.prefetch_frames);
+    const Frustum ahead_frustum(ahead);
+    SelectionView ahead_sv = sv;
+    ahead_sv.frustum = &ahead_frustum;
+    ahead_sv.eye = ahead.pose.position;
+    ahead_sv.occlusion = nullptr;  // the map is this frame's
+    ahead_selection_->select(ahead_sv, options_.traversal, ahead_choices_);
+    ahead_eye_ = ahead.pose.position;
+  }
 
   place(out);
   full_->clear();
@@ -600,6 +627,7 @@ void ClustersTechnique::place(DrawList& out) {
   uint64_t fewest = UINT64_MAX;
   for (int stalled = 0;;) {
     const uint64_t stood_in = stream_->place(choices_, last_eye_, placed_);
+    stream_->prefetch(ahead_choices_, ahead_eye_);
     stream_->end_frame(out);
     if (stood_in == 0) return;
     // As brute.wait: given up when three rounds in a row load nothing more, or a page cannot
@@ -691,6 +719,7 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
     figures.insert(figures.end(),
                    {{"cache_hits", double(c.hits)},
                     {"cache_misses", double(c.misses)},
+                    {"cache_prefetches", double(c.prefetches)},
                     {"bytes_read", double(c.bytes_read)},
                     {"cache_evictions", double(c.evictions)},
                     {"cache_peak_mb", double(c.peak_resident_bytes) / 1e6},

@@ -43,6 +43,7 @@ struct ClustersOptions {
   int hysteresis = 4;  // frames (paper 001, Sec. 4.6)
   HysteresisRule hysteresis_rule = HysteresisRule::paper;
   bool wait = false;      // scene on disk: wait for the pages chosen (tests, references)
+  int prefetch_frames = 15;  // scene on disk: ask for where the viewer will be; 0: not
   bool occlusion = true;  // cull with what the nearest opaque objects hide
   // Boxes inside them, their own triangles, or boxes under a budget and triangles without.
   enum class Occluders : uint8_t { automatic, boxes, meshes } occluders = Occluders::automatic;
@@ -88,6 +89,11 @@ class ClustersTechnique final : public Technique {
   std::vector<Choice> choices_;
   std::unique_ptr<ClusterStream> stream_;  // the scene on disk: meshes streamed, else null
   std::vector<ClusterStream::Placed> placed_, streamed_whole_;
+  // The scene on disk: a selection of its own (its temporal state apart) for where the
+  // viewer is expected, made every few frames and prefetched every frame.
+  std::unique_ptr<ClusterSelection> ahead_selection_;
+  std::vector<Choice> ahead_choices_;
+  glm::vec3 ahead_eye_{0.0f};
   std::vector<Bounds3> occluder_boxes_;        // per object, from the bake; empty: none baked
   std::unique_ptr<Occluders> occluders_;       // boxes; null: none (clusters.occlusion=0)
   std::unique_ptr<Occluders> mesh_occluders_;  // the objects' own triangles

@@ -56,7 +56,10 @@ class ClusterStream {
   // This frame's choices as drawn (replacing `out`'s), the missing asked for; returns how many
   // were stood in for.
   uint64_t place(std::span<const Choice> choices, const glm::vec3& eye, std::vector<Placed>& out);
-  // After place (MeshPool::end_frame); returns the wants missed.
+  // Asks, after this frame's own, for what `choices` (a selection for where the viewer is
+  // expected to be, `eye`) would draw and is not resident, the nearest to `eye` first.
+  void prefetch(std::span<const Choice> choices, const glm::vec3& eye);
+  // After place and prefetch (MeshPool::end_frame); returns the wants missed.
   uint64_t end_frame(DrawList& out) { return pool_->end_frame(out); }
   void wait_for_loads() { pool_->wait_for_loads(); }
   const gpu::MeshPoolCounters& counters() const { return pool_->counters(); }
