@@ -13,6 +13,7 @@
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/device.hpp"
 #include "farfield/gpu/renderer.hpp"
+#include "farfield/scene/city_generator.hpp"
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
 #include "test_util.hpp"
@@ -172,6 +173,47 @@ TEST(BoxSetGL, TheBoxLooksLikeItsObject) {
     }
   EXPECT_LT(reference_sky, uint64_t(view.width * view.height) * 95 / 100);
   EXPECT_NEAR(double(sky), double(reference_sky), 0.02 * view.width * view.height);
+}
+
+// A small city's boxes on small pages: every side inside its page, no two sides (with their
+// gutters) on one texel, and the pages but the last more than half full on average (the
+// tallest packed first; 0.56 to 0.72 each, gutters counted as empty).
+TEST(BoxSetGL, SidesPackedApartOnPagesMoreThanHalfFull) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  CityOptions city_options;
+  city_options.blocks_x = city_options.blocks_z = 2;
+  Progress quiet(true);
+  auto city = generate_city(city_options, quiet);
+  ASSERT_TRUE(city);
+  auto renderer = gpu::Renderer::create(*city);
+  ASSERT_TRUE(renderer);
+  BoxSetOptions o;
+  o.page_px = 256;
+  o.max_side_px = 64;
+  const ClusterTree tree = build_cluster_cells(*city, {});
+  auto boxes = bake_box_set(*city, tree, **renderer, o, quiet);
+  ASSERT_TRUE(boxes) << boxes.error().message;
+  ASSERT_GE(boxes->pages.size(), 3u);
+  std::vector<std::vector<uint8_t>> taken(boxes->pages.size(),
+                                          std::vector<uint8_t>(size_t(o.page_px) * o.page_px));
+  std::vector<uint64_t> texels(boxes->pages.size(), 0);
+  for (const TexturedBox& box : boxes->boxes)
+    for (const BoxSide& s : box.sides) {
+      if (s.w == 0) continue;
+      ASSERT_LE(s.x + s.w, o.page_px);
+      ASSERT_LE(s.y + s.h, o.page_px);
+      texels[box.page] += uint64_t(s.w) * s.h;
+      for (int y = s.y; y < std::min(s.y + s.h + 2, o.page_px); ++y)
+        for (int x = s.x; x < std::min(s.x + s.w + 2, o.page_px); ++x) {
+          uint8_t& t = taken[box.page][size_t(y) * o.page_px + size_t(x)];
+          ASSERT_EQ(t, 0) << "page " << box.page << " texel " << x << ", " << y;
+          t = 1;
+        }
+    }
+  uint64_t filled = 0;
+  for (size_t p = 0; p + 1 < texels.size(); ++p) filled += texels[p];
+  EXPECT_GT(double(filled), 0.5 * double(texels.size() - 1) * o.page_px * o.page_px);
 }
 
 TEST(BoxSetGL, KeptInAPackAndRefusedWhenDamaged) {
