@@ -301,8 +301,10 @@ Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOpti
                    [&](uint32_t l, uint32_t r) { return full[l] > full[r]; });
   // Clusters of more than input_triangles come from the levels: those first in `order`.
   const uint64_t budget = lods ? o.input_triangles : 0;
+  // The first items of `order` that take in every one from the levels: rank 0's, found alike
+  // on every rank (from the objects' triangles: other ranks hold only their share of levels).
   std::vector<uint32_t> level(node_count, 0);
-  size_t from_levels = 0;  // the first items of `order` that take in every one from the levels
+  size_t from_levels = 0;
   for (size_t k = 0; k < node_count; ++k) {
     const uint32_t n = order[k];
     const ClusterNode& node = tree.nodes[n];
@@ -311,7 +313,7 @@ Result<ClusterTree> build_cluster_tree(const Scene& scene, const ClusterTreeOpti
                            {tree.objects.data() + node.objects_begin,
                             node.objects_end - node.objects_begin},
                            budget);
-    if (level[n] > 0) from_levels = k + 1;
+    from_levels = k + 1;
   }
   // The plan names what the meshes depend on: the scene, the cells, the targets, and the
   // levels the largest come from.
