@@ -1,6 +1,7 @@
 #include "farfield/eval/bake_run.hpp"
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <optional>
 
@@ -37,6 +38,10 @@ Result<BakeOutcome> bake_into(const Scene& scene, const TechniqueDescriptor& d,
   if (d.bake_renders && rank0)
     make_renderer = [&]() -> Result<gpu::Renderer*> {
       if (renderer) return renderer.get();
+      // llvmpipe draws many small images faster on the calling thread alone than on every
+      // core, which it wakes and waits for at each image (read when the context is made; a
+      // user's value stays).
+      if (d.bake_images_small) setenv("LP_NUM_THREADS", "0", 0);
       auto made_context = gpu::create_headless_context();
       if (!made_context) return made_context.error();
       context = std::move(*made_context);

@@ -81,6 +81,8 @@ struct TechniqueDescriptor {
   BakeUse bake = BakeUse::none;
   int bake_format = 0;        // the pack's format of this technique's bake; raise on change
   bool bake_renders = false;  // its bake draws the scene (BakeContext::renderer)
+  // Its bake draws many small images (tables, box sides): on the calling thread alone.
+  bool bake_images_small = false;
   // It walks a scene left on disk (LoadContext::on_disk: bench and view --cache-mb).
   bool streams = false;
   // Its bake spreads over the ranks of an MPI job (BakeContext::shards).

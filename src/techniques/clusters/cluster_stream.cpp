@@ -122,41 +122,43 @@ Result<std::unique_ptr<ClusterStream>> ClusterStream::create(
   return s;
 }
 
-std::optional<MeshHandle> ClusterStream::lod_page(uint32_t page, float priority, bool ask) {
-  const uint64_t key = key_of(Item::lod_page, page);
-  return ask ? pool_->want(key, priority) : pool_->peek(key);
+std::optional<MeshHandle> ClusterStream::resident_lod_page(uint32_t page) {
+  return pool_->peek(key_of(Item::lod_page, page));
 }
 
-std::optional<MeshHandle> ClusterStream::tree_page(uint32_t page, float priority, bool ask) {
+std::optional<MeshHandle> ClusterStream::resident_tree_page(uint32_t page) {
   if (page < pinned_pages_) return pinned_;
-  const uint64_t key = key_of(Item::tree_page, page);
-  return ask ? pool_->want(key, priority) : pool_->peek(key);
+  return pool_->peek(key_of(Item::tree_page, page));
 }
 
-std::optional<MeshHandle> ClusterStream::chunk(uint32_t chunk, float priority, bool ask) {
-  const uint64_t key = key_of(Item::chunk, chunk);
-  return ask ? pool_->want(key, priority) : pool_->peek(key);
+ClusterStream::Source ClusterStream::source_of(const Choice& c, const glm::vec3& eye) const {
+  switch (c.kind) {
+    case Choice::Kind::cluster: {
+      const uint32_t page = tree_.node_page[c.index];
+      return {page < pinned_pages_ ? kPinned : key_of(Item::tree_page, page),
+              -distance_to(tree_.nodes[c.index].bounds, eye), tree_index_base(page)};
+    }
+    case Choice::Kind::lod: {
+      const uint32_t page = lods_.lod_page[c.index];
+      return {key_of(Item::lod_page, page),
+              -distance_to(scene_.index().objects[lods_.lods[c.index].object].bounds, eye),
+              lods_.pages[page].first_index};
+    }
+    case Choice::Kind::whole: {
+      const uint32_t k = scene_.chunk_of(c.index);
+      return {key_of(Item::chunk, k), -distance_to(scene_.index().objects[c.index].bounds, eye),
+              scene_.chunks()[k].first_index};
+    }
+    case Choice::Kind::box:
+      break;
+  }
+  return {kNoMesh, 0.0f, 0};
 }
 
 void ClusterStream::prefetch(std::span<const Choice> choices, const glm::vec3& eye) {
-  for (const Choice& c : choices) switch (c.kind) {
-      case Choice::Kind::cluster:
-        if (const uint32_t page = tree_.node_page[c.index]; page >= pinned_pages_)
-          pool_->prefetch(key_of(Item::tree_page, page),
-                          -distance_to(tree_.nodes[c.index].bounds, eye));
-        break;
-      case Choice::Kind::lod:
-        pool_->prefetch(
-            key_of(Item::lod_page, lods_.lod_page[c.index]),
-            -distance_to(scene_.index().objects[lods_.lods[c.index].object].bounds, eye));
-        break;
-      case Choice::Kind::whole:
-        pool_->prefetch(key_of(Item::chunk, scene_.chunk_of(c.index)),
-                        -distance_to(scene_.index().objects[c.index].bounds, eye));
-        break;
-      case Choice::Kind::box:
-        break;  // always resident
-    }
+  for (const Choice& c : choices)
+    if (const Source s = source_of(c, eye); s.key != kPinned && s.key != kNoMesh)
+      pool_->prefetch(s.key, s.priority);
 }
 
 uint32_t ClusterStream::anchor(const Choice& c) const {
@@ -180,7 +182,7 @@ uint32_t ClusterStream::tree_index_base(uint32_t page) const {
 ClusterStream::StandIn ClusterStream::node_stand_in(uint32_t node, Placed& out) {
   for (uint32_t n = node; n != UINT32_MAX; n = parent_[n]) {
     if (tree_.nodes[n].clustered())
-      if (auto mesh = tree_page(tree_.node_page[n], 0.0f, false)) {
+      if (auto mesh = resident_tree_page(tree_.node_page[n])) {
         out = {{Choice::Kind::cluster, n}, *mesh, tree_index_base(tree_.node_page[n])};
         if (!standing_[n]) standing_list_.push_back(n);
         standing_[n] = 1;
@@ -214,7 +216,7 @@ ClusterStream::StandIn ClusterStream::stand_in(const Choice& c, Placed& out) {
   }
   // The finest resident level coarser than the one asked for.
   for (uint32_t k = finer_than; k < lods_.first_lod[object + 1]; ++k)
-    if (auto mesh = lod_page(lods_.lod_page[k], 0.0f, false)) {
+    if (auto mesh = resident_lod_page(lods_.lod_page[k])) {
       out = {{Choice::Kind::lod, k}, *mesh, lods_.pages[lods_.lod_page[k]].first_index};
       return StandIn::object;
     }
@@ -239,32 +241,11 @@ uint64_t ClusterStream::place(std::span<const Choice> choices, const glm::vec3& 
   standing_list_.clear();
   uint64_t stood_in = 0;
   for (const Choice& c : choices) {
-    Placed placed{c, {}, 0};
-    std::optional<MeshHandle> mesh;
-    switch (c.kind) {
-      case Choice::Kind::cluster: {
-        const uint32_t page = tree_.node_page[c.index];
-        mesh = tree_page(page, -distance_to(tree_.nodes[c.index].bounds, eye), true);
-        placed.index_base = tree_index_base(page);
-        break;
-      }
-      case Choice::Kind::lod: {
-        const Lod& lod = lods_.lods[c.index];
-        const uint32_t page = lods_.lod_page[c.index];
-        mesh = lod_page(page, -distance_to(scene_.index().objects[lod.object].bounds, eye), true);
-        placed.index_base = lods_.pages[page].first_index;
-        break;
-      }
-      case Choice::Kind::whole: {
-        const uint32_t k = scene_.chunk_of(c.index);
-        mesh = chunk(k, -distance_to(scene_.index().objects[c.index].bounds, eye), true);
-        placed.index_base = scene_.chunks()[k].first_index;
-        break;
-      }
-      case Choice::Kind::box:
-        mesh = MeshHandle{};
-        break;
-    }
+    const Source source = source_of(c, eye);
+    Placed placed{c, {}, source.index_base};
+    const std::optional<MeshHandle> mesh = source.key == kPinned   ? std::optional(pinned_)
+                                           : source.key == kNoMesh ? std::optional(MeshHandle{})
+                                                                   : pool_->want(source.key, source.priority);
     if (mesh) {
       placed.mesh = *mesh;
       candidates_.push_back({placed, anchor(c), StandIn::none});

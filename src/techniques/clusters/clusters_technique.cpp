@@ -229,6 +229,7 @@ const TechniqueDescriptor clusters_descriptor{
     .bake = BakeUse::optional,
     .bake_format = 7,
     .bake_renders = true,
+    .bake_images_small = true,
     .streams = true,
     .distributes = true,
     .make = [](const SettingValues& v,
@@ -323,14 +324,11 @@ Result<void> ClustersTechnique::bake(const BakeContext& context) {
           context.store);
       !ok)
     return ok;
-  // The renderer from here on only (BakeRenderer). llvmpipe draws the bake's many small
-  // images (tables of 64 px, box sides of at most 256) faster on the calling thread alone than
-  // on every core, which it wakes and waits for at each image: on the default city the
-  // tables took 23.5 s instead of 52 and the boxes 3.1 s instead of 6.0, the pack the same.
-  // Read when the GL context is made (now, unless a bake before made it); a user's value stays.
+  // The renderer from here on only (BakeRenderer). Its images are small (tables of 64 px,
+  // box sides of at most 256: bake_images_small): on the default city the tables took 23.5 s
+  // instead of 52 on the calling thread, the boxes 3.1 s instead of 6.0, the pack the same.
   gpu::Renderer* renderer = nullptr;
   if ((options_.boxes || options_.accuracy_tables) && context.renderer) {
-    setenv("LP_NUM_THREADS", "0", 0);
     auto made = context.renderer();
     if (!made) return made.error();
     renderer = *made;

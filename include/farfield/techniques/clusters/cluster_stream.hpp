@@ -70,12 +70,21 @@ class ClusterStream {
  private:
   ClusterStream(const ChunkedScene& scene, const LodSet& lods, const ClusterTree& tree,
                 const BoxSet& boxes, gpu::Device& device);
-  // The mesh of a page or chunk when resident: wanted (asked for when missing) or peeked.
-  std::optional<MeshHandle> lod_page(uint32_t page, float priority, bool ask);
-  std::optional<MeshHandle> tree_page(uint32_t page, float priority, bool ask);
+  // Where a choice's triangles are: the pool's key for the page or chunk that holds them
+  // (kPinned: the pinned top; kNoMesh: a box), how near (the pool's priority), and the first
+  // index of that page or chunk.
+  static constexpr uint64_t kPinned = UINT64_MAX, kNoMesh = UINT64_MAX - 1;
+  struct Source {
+    uint64_t key;
+    float priority;
+    uint32_t index_base;
+  };
+  Source source_of(const Choice& choice, const glm::vec3& eye) const;
+  // A page's mesh when resident, not asked for.
+  std::optional<MeshHandle> resident_lod_page(uint32_t page);
+  std::optional<MeshHandle> resident_tree_page(uint32_t page);
   // Where a tree page's indices start in the mesh that holds it (pinned pages share one mesh).
   uint32_t tree_index_base(uint32_t page) const;
-  std::optional<MeshHandle> chunk(uint32_t chunk, float priority, bool ask);
   // The representation standing in for `choice` (its coarser resident one): one of the same
   // object, or a node's (marked in standing_), or none.
   enum class StandIn : uint8_t { none, object, node };
