@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <initializer_list>
+#include <memory>
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
@@ -184,6 +185,27 @@ TEST_F(RendererGL, FarQuadsFillOnlyWhatGeometryLeaves) {
   EXPECT_NEAR(mixed[2], 64, 3);
   renderer_->free(green_texture);
   renderer_->free(blue_texture);
+}
+
+// The renderer lets go of an upload's pixels once they are on the GPU: the owner is released
+// then (not when the list is cleared), and the list drawn again draws the same texture.
+TEST_F(RendererGL, UploadedPixelsAreLetGoOfOnceOnTheGpu) {
+  auto green = std::make_shared<std::vector<uint8_t>>(4 * 4 * 3, 0);
+  for (size_t i = 1; i < green->size(); i += 3) (*green)[i] = 255;
+  const std::weak_ptr<std::vector<uint8_t>> watch = green;
+  DrawList list = list_of(scene_, {0});
+  const TextureHandle texture = renderer_->create_texture();
+  list.uploads = {{texture, 4, 4, 3, green->data(), green}};
+  green.reset();
+  const std::array<glm::vec3, 4> wall = {glm::vec3{-20, 20, -1}, glm::vec3{20, 20, -1},
+                                         glm::vec3{20, -20, -1}, glm::vec3{-20, -20, -1}};
+  list.backdrop = {{wall, texture, 1.0f}};
+  EXPECT_FALSE(watch.expired());
+  EXPECT_EQ(at(render(front_, list), {0, 0}), (Rgb{0, 255, 0}));
+  EXPECT_TRUE(watch.expired());
+  EXPECT_EQ(list.uploads[0].pixels, nullptr);
+  EXPECT_EQ(at(render(front_, list), {0, 0}), (Rgb{0, 255, 0}));
+  renderer_->free(texture);
 }
 
 TEST_F(RendererGL, FacesTowardALightAreBrighterThanFacesTurnedAway) {

@@ -714,7 +714,12 @@ FrameStats Renderer::draw(const View& view, const DrawList& list) {
 FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int height,
                                const DrawList& list) {
   State& s = *state_;
-  for (const TextureUpload& u : list.uploads) s.resources.upload(u);
+  for (const TextureUpload& u : list.uploads)
+    if (u.pixels) {
+      s.resources.upload(u);
+      u.pixels = nullptr;
+      u.owner.reset();
+    }
   for (const SceneMeshUpload& u : list.mesh_uploads) {
     // A bounded pool (mesh_pool.hpp) holds what the GPU was sized for: failing here is a bug.
     auto replaced = s.resources.replace_scene_mesh(u.mesh, u.data->vertices, u.data->uvs,

@@ -90,13 +90,15 @@ struct MeshDraw {
 // changes). `pixels` stay valid while `owner` lives, and the list keeps `owner` until it is
 // cleared, so a list may be drawn after the technique that filled it has moved on to the next
 // frame (selection one frame ahead). An owner of null: the caller keeps the pixels alive
-// until the list is drawn.
+// until the list is drawn. The renderer lets go of each upload's pixels once they are on the
+// GPU (owner released, pixels null: a list drawn again, as for a bird's-eye picture, uploads
+// nothing twice), so that a list of many large uploads never holds them all twice.
 struct TextureUpload {
   TextureHandle texture;
-  int width, height;      // pixels
-  int channels;           // 3 (RGB8) or 4 (RGBA8, alpha = coverage)
-  const uint8_t* pixels;  // rows from the top
-  std::shared_ptr<const void> owner;
+  int width, height;              // pixels
+  int channels;                   // 3 (RGB8) or 4 (RGBA8, alpha = coverage)
+  mutable const uint8_t* pixels;  // rows from the top
+  mutable std::shared_ptr<const void> owner;
   bool mipmaps = false;  // a full mip chain, trilinear (textured meshes); else one level
   bool nearest = false;  // one level sampled at the nearest texel (image levels that add up)
 };
