@@ -88,6 +88,27 @@ TEST(BenchGL, WritesEveryFieldAndOctreeMatchesBrute) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("out/frame_times.png")));
   EXPECT_TRUE(std::filesystem::exists(dir.file("out/raw_frame0011.png")));
   EXPECT_TRUE(std::filesystem::exists(dir.file("out/notes.txt")));
+
+  // --no-brute: the technique alone, nothing compared, its sample frames saved as they are.
+  options.techniques = {"octree"};
+  options.brute = false;
+  auto alone = run_bench(*city, *path, options, quiet);
+  ASSERT_TRUE(alone) << alone.error().message;
+  ASSERT_EQ(alone->techniques.size(), 1u);
+  EXPECT_EQ(alone->techniques[0].name, "octree");
+  const auto alone_json = nlohmann::json::parse(test::read_file(dir.file("out/bench.json")));
+  EXPECT_EQ(alone_json["brute"], false);
+  const auto& summary = alone_json["techniques"][0]["summary"];
+  EXPECT_EQ(summary["compared_frames"], 0);
+  EXPECT_FALSE(summary.contains("psnr_db_mean"));
+  EXPECT_FALSE(summary.contains("median_ratio_to_brute"));
+  EXPECT_FALSE(alone_json["techniques"][0]["frames"][0].contains("psnr_db"));
+  EXPECT_TRUE(std::filesystem::exists(dir.file("out/octree_frame0011.png")));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out/octree_frame0011_diff.png")));
+  options.techniques = {"brute"};
+  auto named = run_bench(*city, *path, options, quiet);
+  ASSERT_FALSE(named);
+  EXPECT_NE(named.error().message.find("--no-brute"), std::string::npos) << named.error().message;
 }
 
 // Under a budget: the summary says how often frames ran over it; a technique that predicts

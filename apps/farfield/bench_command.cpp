@@ -17,7 +17,7 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
     std::string path;
     std::vector<std::string> techniques{"brute", "octree"};
     std::vector<std::string> settings;
-    bool quiet = false, no_plot = false;
+    bool quiet = false, no_plot = false, no_brute = false;
     size_t frames = 0;
     std::vector<float> light;  // heading, elevation
   };
@@ -58,6 +58,9 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_option("--reference-every", s->bench.reference_every,
                   "Compare with brute every N frames (0: sample frames only)")
       ->capture_default_str();
+  cmd->add_flag("--no-brute", s->no_brute,
+                "Leave brute force out: nothing compared, no x_brute; for timing techniques on "
+                "their own where brute force is too slow (sample frames still saved)");
   cmd->add_option("--samples", s->bench.sample_images, "Frames saved as PNG per technique")
       ->check(CLI::Range(0u, 1000u))
       ->capture_default_str();
@@ -98,6 +101,7 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
                           if (auto ok = s->bench.settings.add(setting); !ok)
                             return usage_error(ok.error().message);
                         s->bench.plot = !s->no_plot;
+                        s->bench.brute = !s->no_brute;
                         if (s->light.size() == 2) {
                           s->bench.light_heading_deg = s->light[0];
                           s->bench.light_elevation_deg = s->light[1];

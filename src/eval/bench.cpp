@@ -193,7 +193,7 @@ class BenchRun {
   }
 
   bool compared(uint32_t f) const {
-    return (o_.reference_every && f % o_.reference_every == 0) || sample(f);
+    return o_.brute && ((o_.reference_every && f % o_.reference_every == 0) || sample(f));
   }
   bool sample(uint32_t f) const { return std::binary_search(samples_.begin(), samples_.end(), f); }
 
@@ -291,6 +291,10 @@ class BenchRun {
     r.proxy_triangles = t.mesh_triangles;
     r.predicted_ms = t.predicted_ms;
     r.occlusion_ms = t.occlusion_ms;
+    if (!o_.brute && sample(f))  // outside the timed region
+      if (auto ok = write_png(renderer_.capture(), frame_file(o_.out_dir, e.record.name, f, ""));
+          !ok)
+        return ok;
     if (compared(f)) {  // outside the timed region
       if (auto ok = compare(e, f, r, sample(f)); !ok) return ok;
       if (sample(f) && o_.birdseye_height > 0) {
@@ -371,7 +375,11 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
   if (on_disk && std::find(options.techniques.begin(), options.techniques.end(),
                            std::string(kRawBound)) != options.techniques.end())
     return make_error(kRawBound, " draws the scene's own buffers: not with --cache-mb");
-  std::vector<std::string> names{"brute"};  // first: the reference of every other technique
+  std::vector<std::string> names;
+  if (options.brute) names.push_back("brute");  // first: the reference of every other technique
+  else if (std::find(options.techniques.begin(), options.techniques.end(), "brute") !=
+           options.techniques.end())
+    return make_error("--no-brute leaves brute out: name the techniques to time with --technique, brute not among them");
   for (const std::string& n : options.techniques)
     if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
   std::vector<std::string> techniques;

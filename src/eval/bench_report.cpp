@@ -43,6 +43,7 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
   root["cache_mb"] = options.cache_mb;
   root["light_deg"] = {options.light_heading_deg, options.light_elevation_deg};
   root["interleaved"] = report.interleaved;
+  root["brute"] = options.brute;
   root["pipelined"] = report.pipelined;
   root["techniques"] = json::array();
   const TechniqueRecord* brute = find_brute(report);
@@ -74,8 +75,6 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
                     {"mean_ms", s.mean_ms},
                     {"mean_triangles", s.mean_triangles},
                     {"mean_draw_calls", s.mean_draw_calls},
-                    {"psnr_db_mean", s.psnr_db_mean},
-                    {"psnr_db_min", s.psnr_db_min},
                     {"psnr_ceiling_db", s.psnr_ceiling_db},
                     {"compared_frames", s.compared_frames},
                     {"identical_frames", s.identical_frames},
@@ -87,6 +86,10 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
                     {"bake_s", t.bake_s},
                     {"load_s", t.load_s},
                     {"store_bytes", t.store_bytes}};
+    if (s.compared_frames > 0) {  // none with --no-brute
+      summary["psnr_db_mean"] = s.psnr_db_mean;
+      summary["psnr_db_min"] = s.psnr_db_min;
+    }
     if (s.compared_frames > s.identical_frames) {
       summary["psnr_db_mean_differing"] = s.psnr_db_mean_differing;
       summary["psnr_db_pooled"] = s.psnr_db_pooled;

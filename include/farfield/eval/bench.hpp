@@ -26,7 +26,10 @@ inline constexpr const char* kRawBound = "raw";
 struct BenchOptions {
   std::string scene_file;               // for the report
   std::string store_file;               // a .ffpack from `farfield bake`; empty: load in memory
-  std::vector<std::string> techniques;  // brute is always run (first) as the reference
+  std::vector<std::string> techniques;  // brute is run first as the reference (unless !brute)
+  // false: brute force left out (--no-brute): nothing compared, no ratio to brute; for timing
+  // techniques on their own where brute force is too slow to walk (a 100M-triangle scene).
+  bool brute = true;
   TechniqueSettings settings;           // --set NAME.KEY=VALUE
   int width = 1024, height = 768;
   float hfov_deg = 90.0f;
