@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <mutex>
+#include <thread>
 
 namespace farfield::gpu {
 namespace {
@@ -115,6 +117,52 @@ TEST(MeshPool, WhatNoLongerWantedIsNotLoaded) {
   p.wait_for_loads();
   std::lock_guard lock(recorder.mutex);
   for (uint64_t k : recorder.order) EXPECT_TRUE(k == 5 || k == 11 || k == 12) << k;
+}
+
+// A frame takes in at most its upload bytes of what was loaded (at least one item), the rest
+// in the next frames; after wait_for_loads, everything.
+TEST(MeshPool, TakesInAFramesUploadBytesAtMost) {
+  MemoryDevice device;
+  Recorder recorder;
+  const uint64_t item_bytes = item(10)->byte_size();
+  MeshPoolOptions options{1 << 20, 64, 2 * item_bytes + 1};
+  auto pool = MeshPool::create(device, options, recorder.loader(10));
+  ASSERT_TRUE(pool);
+  MeshPool& p = **pool;
+  auto want_all = [&] {
+    for (uint64_t k = 1; k <= 5; ++k) p.want(k, float(k));
+  };
+  want_all();
+  DrawList list;
+  p.end_frame(list);
+  // Wait for the loader to finish, without taking everything in at the next frame.
+  for (int i = 0; i < 1000; ++i) {
+    {
+      std::lock_guard lock(recorder.mutex);
+      if (recorder.order.size() == 5) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  std::vector<size_t> taken;
+  for (int frame = 0; frame < 3; ++frame) {
+    want_all();
+    list.clear();
+    p.end_frame(list);
+    taken.push_back(list.mesh_uploads.size());
+  }
+  EXPECT_EQ(taken, (std::vector<size_t>{2, 2, 1}));
+
+  // One item over the bound is still taken in, alone; after wait_for_loads, all at once.
+  MeshPoolOptions tight{1 << 20, 64, 1};
+  auto second = MeshPool::create(device, tight, recorder.loader(10));
+  ASSERT_TRUE(second);
+  for (uint64_t k = 21; k <= 24; ++k) (*second)->want(k, float(k));
+  list.clear();
+  (*second)->end_frame(list);
+  (*second)->wait_for_loads();
+  list.clear();
+  (*second)->end_frame(list);
+  EXPECT_EQ(list.mesh_uploads.size(), 4u);
 }
 
 }  // namespace

@@ -26,6 +26,7 @@ struct Slot {
 struct Loaded {
   uint64_t key;
   Result<std::shared_ptr<const SceneMeshData>> data;
+  uint64_t bytes() const { return data ? (*data)->byte_size() : 0; }
 };
 
 }  // namespace
@@ -52,6 +53,7 @@ struct MeshPool::State {
   std::optional<uint64_t> in_flight;
   std::vector<Loaded> done;
   uint64_t done_bytes = 0;
+  bool take_all = false;  // the next end_frame takes in all that is done (wait_for_loads)
   bool stop = false;
   std::thread thread;
 
@@ -69,7 +71,7 @@ struct MeshPool::State {
       Loaded item{key, loader(key)};
       lock.lock();
       in_flight.reset();
-      if (item.data) done_bytes += (*item.data)->byte_size();
+      done_bytes += item.bytes();
       done.push_back(std::move(item));
       idle.notify_all();
     }
@@ -179,11 +181,23 @@ uint64_t MeshPool::end_frame(DrawList& out) {
   s.ahead.clear();
   {
     std::lock_guard lock(s.mutex);
-    done.swap(s.done);
-    s.done_bytes = 0;
+    // What was loaded, in the order it was, up to the frame's upload bytes.
+    const uint64_t cap = s.options.upload_bytes_per_frame;
+    uint64_t taken = 0;
+    size_t n = 0;
+    while (n < s.done.size() &&
+           (n == 0 || s.take_all || cap == 0 || taken + s.done[n].bytes() <= cap))
+      taken += s.done[n++].bytes();
+    done.assign(std::make_move_iterator(s.done.begin()),
+                std::make_move_iterator(s.done.begin() + std::ptrdiff_t(n)));
+    s.done.erase(s.done.begin(), s.done.begin() + std::ptrdiff_t(n));
+    s.done_bytes -= taken;
+    s.take_all = false;
+    auto loaded = [](const std::vector<Loaded>& items, uint64_t key) {
+      return std::any_of(items.begin(), items.end(), [&](const Loaded& d) { return d.key == key; });
+    };
     std::erase_if(queue, [&](uint64_t key) {
-      return (s.in_flight && *s.in_flight == key) ||
-             std::any_of(done.begin(), done.end(), [&](const Loaded& d) { return d.key == key; });
+      return (s.in_flight && *s.in_flight == key) || loaded(done, key) || loaded(s.done, key);
     });
     std::reverse(queue.begin(), queue.end());
     s.queue = std::move(queue);
@@ -195,8 +209,8 @@ uint64_t MeshPool::end_frame(DrawList& out) {
       if (s.failure.empty()) s.failure = item.data.error().message;
       continue;
     }
+    const uint64_t bytes = item.bytes();
     std::shared_ptr<const SceneMeshData> data = std::move(*item.data);
-    const uint64_t bytes = data->byte_size();
     ++s.counters.loads;
     s.counters.bytes_read += bytes;
     if (s.resident.contains(item.key)) continue;
@@ -223,6 +237,7 @@ void MeshPool::wait_for_loads() {
   s.idle.wait(lock, [&] {
     return !s.in_flight && (s.queue.empty() || s.done_bytes >= s.read_ahead());
   });
+  s.take_all = true;
 }
 
 const MeshPoolCounters& MeshPool::counters() const { return s_->counters; }

@@ -8,8 +8,9 @@
 // end_frame(), which asks the loader for the missing ones, highest priority first, then for
 // those prefetched (what was not wanted or prefetched this frame is no longer asked for), takes in what it has loaded, evicting the
 // least recently wanted items not wanted this frame to make room, and puts their uploads in the
-// frame's DrawList (the renderer replaces a pool mesh's buffers with them before it draws). An
-// item taken in is drawn from the next frame on. A pool mesh is a scene mesh of the device,
+// frame's DrawList (the renderer replaces a pool mesh's buffers with them before it draws), up
+// to MeshPoolOptions::upload_bytes_per_frame; the rest wait for the next frames. An item taken
+// in is drawn from the next frame on. A pool mesh is a scene mesh of the device,
 // made once when the pool is made (on the GL thread): the walk makes no GL object.
 //
 // Memory: the budget bounds the meshes' bytes (on llvmpipe the GPU buffers are in system
@@ -32,6 +33,10 @@ namespace farfield::gpu {
 struct MeshPoolOptions {
   uint64_t budget_bytes = uint64_t(1) << 30;
   uint32_t meshes = 1024;  // the most items resident at once
+  // Loaded bytes taken in by one end_frame, at most (at least one item; 0: no bound): each is
+  // a copy into the GPU's buffers that the frame pays for, outside any selection's estimate
+  // (on llvmpipe 64 MB taken in at once cost a 100M-city frame 50 ms more than predicted).
+  uint64_t upload_bytes_per_frame = uint64_t(4) << 20;
 };
 
 // Counters since the pool was made.
@@ -69,7 +74,7 @@ class MeshPool {
   // See above. Returns how many wants of this frame were missed.
   uint64_t end_frame(DrawList& out);
   // Waits until the loader has nothing left to load (tests, references): the next end_frame
-  // takes in everything asked for that fits.
+  // takes in everything asked for that fits, however many bytes.
   void wait_for_loads();
 
   const MeshPoolCounters& counters() const;
