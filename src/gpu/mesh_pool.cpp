@@ -1,6 +1,9 @@
 #include "farfield/gpu/mesh_pool.hpp"
 
 #include <algorithm>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -60,6 +63,9 @@ struct MeshPool::State {
   uint64_t read_ahead() const { return std::max<uint64_t>(options.budget_bytes / 16, 1); }
 
   void run() {
+    // Below the frame's threads (Linux: a thread's own nice value): on a machine whose cores
+    // the renderer fills (llvmpipe), reading and decoding pages must not lengthen frames.
+    setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), 10);
     std::unique_lock lock(mutex);
     for (;;) {
       wake.wait(lock, [&] { return stop || (!queue.empty() && done_bytes < read_ahead()); });

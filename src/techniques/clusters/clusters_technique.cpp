@@ -506,7 +506,8 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     sv.occlusion = &occlusion_;
   }
   // Paper 001, Sec. 4.5.2 under the budget: the triangles that the cost model fitted to the
-  // frames measured so far predicts will fit, a tenth of the budget held back; before any
+  // frames measured so far predicts will fit, under the budget by the model's recent error
+  // (budget_target.hpp); before any
   // frame was measured, the coarsest complete representation (a budget of no triangles), so
   // that the model starts from below: starting from the error rule's millions of small
   // triangles, the line through them and the next frame put the fixed part over the budget
@@ -514,15 +515,25 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   // every frame, so that it predicts each frame's time (bench's predicted_ms) in both modes.
   // The frame that took the boxes' pages to the renderer timed their upload and mipmaps
   // (a second and more), not its drawing: it is not learnt from.
-  if (!upload_frame_)
+  if (!upload_frame_) {
     cost_.observe(double(input.budget.last_triangles), double(input.budget.last_draw_calls),
                   input.budget.last_frame_ms);
+    budget_target_.observe(last_predicted_ms_, input.budget.last_frame_ms);
+  }
   upload_frame_ = false;
+  last_predicted_ms_ = -1.0;
   if (input.budget.target_ms > 0.0) {
-    const double target_ms = 0.9 * input.budget.target_ms;
+    const double target_ms = budget_target_.target_ms(input.budget.target_ms);
     sv.max_triangles = 0.0;
     if (cost_.ready()) {
       sv.max_triangles = cost_.triangles_within(target_ms);
+      // The model is fitted where the frames were: at most half as many triangles again as
+      // the last frame drew, and a refinement's worth more (a 100M street frame asked for
+      // 233K after frames of 90K, predicted 30 ms, took 112: near objects whole fill more
+      // pixels than the fit had seen).
+      if (input.budget.last_triangles > 0)
+        sv.max_triangles = std::min(sv.max_triangles,
+                                    1.5 * double(input.budget.last_triangles) + 32768.0);
       // Frames of one count cannot tell the fixed part from the triangles' (the model then
       // charges all to the triangles, and the 892 triangles of the 10M city's root cluster at
       // 5 us each never afford a refinement): while the last frame was under the budget, ask
@@ -603,9 +614,11 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   }
   streamed_whole_.clear();
   const size_t box_draws = add_boxes(out);
-  if (cost_.ready())
+  if (cost_.ready()) {
     out.predicted_ms = cost_.predict_ms(
         double(stats.triangles), double(out.opaque.size() + out.transparent.size() + box_draws));
+    last_predicted_ms_ = out.predicted_ms;
+  }
 }
 
 // Where each choice is drawn from: the technique's meshes, or with the scene on disk what of

@@ -13,6 +13,7 @@
 #include "farfield/spatial/occluders.hpp"
 #include "farfield/spatial/occlusion_map.hpp"
 #include "farfield/techniques/clusters/accuracy_table.hpp"
+#include "farfield/techniques/clusters/budget_target.hpp"
 #include "farfield/techniques/clusters/cluster_selection.hpp"
 #include "farfield/techniques/clusters/cluster_stream.hpp"
 #include "farfield/techniques/clusters/cluster_tree.hpp"
@@ -81,6 +82,8 @@ class ClustersTechnique final : public Technique {
   std::vector<uint32_t> box_first_, box_count_;  // per box: its indices in its page's mesh
   std::vector<uint32_t> boxes_chosen_;
   bool upload_frame_ = false;  // the last frame uploaded the pages
+  double last_predicted_ms_ = -1.0;  // the last frame's; < 0: none
+  BudgetTarget budget_target_;
   glm::vec3 last_eye_{0.0f};
   gpu::OwnedResources resources_;
   MeshHandle lod_mesh_, cluster_mesh_;  // lods_ and tree_'s clusters as scene meshes

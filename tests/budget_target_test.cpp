@@ -1,0 +1,32 @@
+// The frame time a budgeted selection aims at (techniques/clusters/budget_target.hpp): a tenth
+// under the budget until enough frames were measured, then under it by the 95th percentile of
+// the model's recent error, within 0.6 and 0.95 of the budget.
+#include "farfield/techniques/clusters/budget_target.hpp"
+
+#include <gtest/gtest.h>
+
+namespace farfield {
+namespace {
+
+TEST(BudgetTarget, AimsUnderTheBudgetByTheRecentError) {
+  BudgetTarget target;
+  EXPECT_DOUBLE_EQ(target.target_ms(33.0), 0.9 * 33.0);
+  for (int f = 0; f < 15; ++f) target.observe(30.0, 30.0);
+  EXPECT_DOUBLE_EQ(target.target_ms(33.0), 0.9 * 33.0) << "too few frames yet";
+  target.observe(30.0, 30.0);
+  EXPECT_DOUBLE_EQ(target.target_ms(33.0), 0.95 * 33.0) << "exact predictions: near the budget";
+
+  // 6 frames in 64 a quarter over their prediction, the rest exact: the 95th percentile is
+  // 1.25, so frames are aimed at 1.1 / 1.25 of the budget.
+  for (int f = 0; f < 64; ++f) target.observe(20.0, f % 12 == 0 ? 25.0 : 20.0);
+  EXPECT_NEAR(target.target_ms(33.0), 33.0 * 1.1 / 1.25, 1e-9);
+
+  // Wildly wrong: no lower than 0.6 of the budget. Unmeasured frames are not counted.
+  for (int f = 0; f < 64; ++f) target.observe(10.0, 40.0);
+  target.observe(-1.0, 5.0);
+  target.observe(10.0, 0.0);
+  EXPECT_DOUBLE_EQ(target.target_ms(33.0), 0.6 * 33.0);
+}
+
+}  // namespace
+}  // namespace farfield
