@@ -165,6 +165,28 @@ TEST(Store, ListsSumsAndErasesByPrefix) {
   EXPECT_TRUE(store.list().value().empty());
 }
 
+// Compacting gives the file back the room of erased blobs, keeps the rest, and does nothing
+// where little is free; a read-only store refuses.
+TEST(Store, CompactGivesBackTheRoomOfErasedBlobs) {
+  TempDir dir;
+  const std::string path = dir.file("a.ffpack");
+  Store store = open_or_die(path, Store::Mode::kReadWrite);
+  const std::vector<std::byte> kept = random_bytes(1 << 20, 1);
+  ASSERT_TRUE(store.put("kept", kept, Codec::kNone));
+  ASSERT_TRUE(store.put("work/0", random_bytes(4 << 20, 2), Codec::kNone));
+  EXPECT_EQ(store.compact().value(), 0u) << "nothing free yet";
+  const uint64_t before = std::filesystem::file_size(path);
+  ASSERT_EQ(store.erase("work/").value(), 1u);
+  EXPECT_EQ(std::filesystem::file_size(path), before) << "SQLite keeps the freed pages";
+  const uint64_t given = store.compact().value();
+  EXPECT_GE(given, uint64_t(4) << 20);
+  EXPECT_LE(std::filesystem::file_size(path), before - given);
+  EXPECT_EQ(store.get("kept").value(), kept);
+  EXPECT_TRUE(store.verify());
+  Store reader = open_or_die(path, Store::Mode::kRead);
+  EXPECT_FALSE(reader.compact());
+}
+
 TEST(Store, MetaIsKeptAndListedByPrefix) {
   TempDir dir;
   const std::string path = dir.file("a.ffpack");

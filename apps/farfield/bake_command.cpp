@@ -48,6 +48,14 @@ void add_bake_command(CLI::App& root, std::vector<Command>& commands) {
                                     s->technique.c_str(), s->out.c_str(),
                                     baked->description.c_str(),
                                     (unsigned long long)baked->store_bytes, baked->seconds);
+                        if (baked->compacted_bytes > 0)
+                          std::printf("compacted the pack: %.1f MB of erased work given back\n",
+                                      double(baked->compacted_bytes) / 1e6);
+                        if (!baked->compact_failure.empty())
+                          std::fprintf(stderr,
+                                       "farfield: warning: the pack is complete but was not "
+                                       "compacted: %s\n",
+                                       baked->compact_failure.c_str());
                         return 0;
                       }});
 }

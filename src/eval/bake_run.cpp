@@ -76,6 +76,13 @@ Result<BakeOutcome> bake_into(const Scene& scene, const TechniqueDescriptor& d,
   if (!bytes) return bytes.error();
   outcome.store_bytes = *bytes;
   outcome.description = (*technique)->describe();
+  // A bake drops its resumable work when it ends, leaving its room free in the file.
+  progress.start("compact the pack", 1);
+  if (auto compacted = store->compact(); compacted)
+    outcome.compacted_bytes = *compacted;
+  else
+    outcome.compact_failure = compacted.error().message;
+  progress.finish();
   if (world.distributed()) {
     world.barrier();
     for (int r = 1; r < world.size(); ++r) {

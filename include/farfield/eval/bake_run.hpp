@@ -18,6 +18,10 @@ struct BakeOutcome {
   std::string description;   // Technique::describe() after the bake
   uint64_t store_bytes = 0;  // the technique's blobs in the pack
   double seconds = 0.0;
+  // The pack compacted after the bake (Store::compact): bytes given back, or why it was not
+  // (the bake is complete either way).
+  uint64_t compacted_bytes = 0;
+  std::string compact_failure;
 };
 
 Result<BakeOutcome> run_bake(const Scene& scene, const std::string& technique,

@@ -133,6 +133,13 @@ class Store {
   // rather than failing half-way). One at a time per Store.
   Result<Transaction> begin();
 
+  // Gives the file back the room of erased and replaced blobs (SQLite keeps freed pages for
+  // later writes: a bake that drops its resumable work left the default city's pack 42% free)
+  // where they are at least a tenth of it, by rewriting it (VACUUM: room for a copy is needed
+  // while it runs; on failure the pack stays as it was). Returns the bytes given back.
+  // Writable stores only, outside a transaction.
+  Result<uint64_t> compact();
+
   // Full check: SQLite's quick_check of the database structure, then every blob's checksum.
   // Reads the whole file: measured on a 100 MB pack, 0.4 s from disk, 0.05 s when cached.
   Result<void> verify() const;
