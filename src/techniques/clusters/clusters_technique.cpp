@@ -527,13 +527,6 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     sv.max_triangles = 0.0;
     if (cost_.ready()) {
       sv.max_triangles = cost_.triangles_within(target_ms);
-      // The model is fitted where the frames were: at most half as many triangles again as
-      // the last frame drew, and a refinement's worth more (a 100M street frame asked for
-      // 233K after frames of 90K, predicted 30 ms, took 112: near objects whole fill more
-      // pixels than the fit had seen).
-      if (input.budget.last_triangles > 0)
-        sv.max_triangles = std::min(sv.max_triangles,
-                                    1.5 * double(input.budget.last_triangles) + 32768.0);
       // Frames of one count cannot tell the fixed part from the triangles' (the model then
       // charges all to the triangles, and the 892 triangles of the 10M city's root cluster at
       // 5 us each never afford a refinement): while the last frame was under the budget, ask
