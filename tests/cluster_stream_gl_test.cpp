@@ -74,8 +74,8 @@ struct Walks {
   uint64_t cache = 0;
 };
 
-void load_walks(Walks& w, std::initializer_list<const char*> streamed_settings,
-                uint64_t cache) {
+void load_walks(Walks& w, std::initializer_list<const char*> streamed_settings, uint64_t cache,
+                std::initializer_list<const char*> both_settings = {}) {
   const Baked& b = baked();
   auto store = Store::open(b.pack_path, Store::Mode::kRead);
   ASSERT_TRUE(store) << store.error().message;
@@ -88,11 +88,13 @@ void load_walks(Walks& w, std::initializer_list<const char*> streamed_settings,
   ASSERT_TRUE(whole && streamed);
   w.whole = std::move(*whole);
   w.streamed = std::move(*streamed);
-  auto in_memory = make_technique("clusters", test::settings_of({"clusters.occluders=boxes"}));
+  TechniqueSettings shared = test::settings_of({"clusters.occluders=boxes"});
+  for (const char* s : both_settings) ASSERT_TRUE(shared.add(s));
+  auto in_memory = make_technique("clusters", shared);
   ASSERT_TRUE(in_memory);
   w.in_memory = std::move(*in_memory);
   ASSERT_TRUE(test::load_technique(*w.in_memory, b.city, w.whole.get(), &*w.store));
-  TechniqueSettings settings = test::settings_of({"clusters.occluders=boxes"});
+  TechniqueSettings settings = shared;
   for (const char* s : streamed_settings) ASSERT_TRUE(settings.add(s));
   auto from_disk = make_technique("clusters", settings);
   ASSERT_TRUE(from_disk);
@@ -143,6 +145,31 @@ TEST(ClusterStreamGL, SmallCacheEvictsAndLoadedFramesEqualTheWholePack) {
   EXPECT_GT(test::figure(*w.from_disk, "cache_evictions"), 0) << "the cache was small enough to evict";
   EXPECT_LE(test::figure(*w.from_disk, "cache_peak_mb") * 1e6, double(w.cache));
   EXPECT_GT(test::figure(*w.from_disk, "pinned_mb"), 0);
+  EXPECT_EQ(w.from_disk->failure(), "");
+}
+
+// Boxes (drawn where coarse is enough: at 64 px) come from the pack's pages cut into tiles on
+// the loader thread: once their tiles are in, the frames are the whole pack's.
+TEST(ClusterStreamGL, BoxesComeInTilesAndDrawAsTheWholePacks) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << "no GL context";
+  Walks w;
+  ASSERT_NO_FATAL_FAILURE(
+      load_walks(w, {"clusters.wait=1"}, uint64_t(256) << 20, {"clusters.error_px=64"}));
+  std::mt19937 rng(9);
+  for (int i = 0; i < 6; ++i) {
+    const View view = looking_down(rng, baked().city.bounds);
+    const Image reference = draw(*w.whole, *w.in_memory, view, uint64_t(i));
+    const Image image = draw(*w.streamed, *w.from_disk, view, uint64_t(i));
+    const ImageComparison c = compare_images(reference, image);
+    EXPECT_TRUE(c.identical()) << "view " << i << ": " << c.differing_pixels
+                               << " pixels differ, PSNR " << c.psnr_db;
+  }
+  EXPECT_GT(test::figure(*w.from_disk, "mean_boxes_drawn"), 0.0);
+  EXPECT_GT(test::figure(*w.from_disk, "box_tiles_in"), 0.0);
+  EXPECT_LE(test::figure(*w.from_disk, "box_tiles_in"), test::figure(*w.from_disk, "box_tiles"));
+  EXPECT_GE(test::figure(*w.from_disk, "box_bytes_read"),
+            test::figure(*w.from_disk, "box_tiles_in") * 512 * 512 * 4);
   EXPECT_EQ(w.from_disk->failure(), "");
 }
 
@@ -240,37 +267,45 @@ TEST(ClusterStreamGL, PrefetchingAlongTheMotionMissesLess) {
     EXPECT_TRUE(compare_images(ahead_frames[f], plain_frames[f]).identical()) << "frame " << f;
 }
 
+// A level's page or a box page whose bytes were damaged: named (pack and blob) as the walk
+// reaches it.
 TEST(ClusterStreamGL, ADamagedPageIsNamedWhileWalking) {
   auto context = gpu::create_headless_context();
   if (!context) GTEST_SKIP() << "no GL context";
-  test::TempDir dir;
-  const std::string pack = dir.file("damaged.ffpack");
-  std::filesystem::copy_file(baked().pack_path, pack);
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(pack.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db,
-                         "UPDATE blobs SET data = zeroblob(length(data)) "
-                         "WHERE name LIKE 'clusters/lod_page/%'",
-                         nullptr, nullptr, nullptr),
-            SQLITE_OK);
-  sqlite3_close(db);
-  auto store = Store::open(pack, Store::Mode::kRead);
-  ASSERT_TRUE(store);
-  auto on_disk = ChunkedScene::open(baked().scene_path);
-  ASSERT_TRUE(on_disk);
-  auto renderer = gpu::Renderer::create(on_disk->index());
-  ASSERT_TRUE(renderer);
-  auto walker = make_technique("clusters", test::settings_of({"clusters.wait=1"}));
-  ASSERT_TRUE(walker);
-  Progress silent(true);
-  ASSERT_TRUE((*walker)->load({on_disk->index(), &*store, **renderer, silent, &*on_disk,
-                               uint64_t(64) << 20}));
-  std::mt19937 rng(3);
-  for (int i = 0; i < 8 && (*walker)->failure().empty(); ++i)
-    draw(**renderer, **walker, looking_down(rng, baked().city.bounds), uint64_t(i));
-  const std::string failure = (*walker)->failure();
-  EXPECT_NE(failure.find("damaged.ffpack"), std::string::npos) << failure;
-  EXPECT_NE(failure.find("clusters/lod_page/"), std::string::npos) << failure;
+  // Boxes are drawn where coarse is enough: a walk at 64 px.
+  for (const auto& [blobs, error_px] :
+       {std::pair<std::string, const char*>{"clusters/lod_page/", "clusters.error_px=1"},
+        {"clusters/box_page_", "clusters.error_px=64"}}) {
+    SCOPED_TRACE(blobs);
+    test::TempDir dir;
+    const std::string pack = dir.file("damaged.ffpack");
+    std::filesystem::copy_file(baked().pack_path, pack);
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(pack.c_str(), &db), SQLITE_OK);
+    const std::string damage =
+        "UPDATE blobs SET data = zeroblob(length(data)) WHERE name LIKE '" + blobs + "%'";
+    ASSERT_EQ(sqlite3_exec(db, damage.c_str(), nullptr, nullptr, nullptr), SQLITE_OK);
+    EXPECT_GT(sqlite3_changes(db), 0);
+    sqlite3_close(db);
+    auto store = Store::open(pack, Store::Mode::kRead);
+    ASSERT_TRUE(store);
+    auto on_disk = ChunkedScene::open(baked().scene_path);
+    ASSERT_TRUE(on_disk);
+    auto renderer = gpu::Renderer::create(on_disk->index());
+    ASSERT_TRUE(renderer);
+    auto walker = make_technique(
+        "clusters", test::settings_of({"clusters.wait=1", error_px}));
+    ASSERT_TRUE(walker);
+    Progress silent(true);
+    ASSERT_TRUE((*walker)->load({on_disk->index(), &*store, **renderer, silent, &*on_disk,
+                                 uint64_t(64) << 20}));
+    std::mt19937 rng(3);
+    for (int i = 0; i < 8 && (*walker)->failure().empty(); ++i)
+      draw(**renderer, **walker, looking_down(rng, baked().city.bounds), uint64_t(i));
+    const std::string failure = (*walker)->failure();
+    EXPECT_NE(failure.find("damaged.ffpack"), std::string::npos) << failure;
+    EXPECT_NE(failure.find(blobs), std::string::npos) << failure;
+  }
 }
 
 // Streaming needs a bake: refused, saying so, without one.

@@ -36,6 +36,20 @@ Bytes zstd_compress(std::span<const std::byte> bytes, int level) {
 }
 
 Result<Bytes> zstd_decompress(std::span<const std::byte> compressed, uint64_t raw_size) {
+  // The size a frame declares is checked before anything is allocated for it.
+  const unsigned long long declared =
+      ZSTD_getFrameContentSize(compressed.data(), compressed.size());
+  if (declared != ZSTD_CONTENTSIZE_ERROR && declared != ZSTD_CONTENTSIZE_UNKNOWN &&
+      declared != raw_size)
+    return make_error("zstd frame declares ", std::to_string(declared), " bytes, expected ",
+                      std::to_string(raw_size));
+  Bytes out(declared == raw_size ? raw_size : 0);
+  if (auto ok = zstd_decompress_into(compressed, out); !ok) return ok.error();
+  return out;
+}
+
+Result<void> zstd_decompress_into(std::span<const std::byte> compressed, std::span<std::byte> out) {
+  const uint64_t raw_size = out.size();
   const unsigned long long declared =
       ZSTD_getFrameContentSize(compressed.data(), compressed.size());
   if (declared == ZSTD_CONTENTSIZE_ERROR) return make_error("not zstd data (bad frame header)");
@@ -50,13 +64,12 @@ Result<Bytes> zstd_decompress(std::span<const std::byte> compressed, uint64_t ra
   if (frame != compressed.size())
     return make_error("zstd data has ", std::to_string(compressed.size() - frame),
                       " bytes after its frame");
-  Bytes out(raw_size);
   const size_t size = ZSTD_decompress(out.data(), out.size(), compressed.data(), compressed.size());
   if (ZSTD_isError(size)) return make_error("corrupted zstd data: ", ZSTD_getErrorName(size));
   if (size != raw_size)
     return make_error("zstd data holds ", std::to_string(size), " bytes, expected ",
                       std::to_string(raw_size));
-  return out;
+  return {};
 }
 
 Result<Bytes> encode_jpeg(const Image& image, int quality) {

@@ -291,6 +291,7 @@ class BenchRun {
     r.proxy_triangles = t.mesh_triangles;
     r.predicted_ms = t.predicted_ms;
     r.occlusion_ms = t.occlusion_ms;
+    r.upload_ms = t.upload_ms;
     if (!o_.brute && sample(f))  // outside the timed region
       if (auto ok = write_png(renderer_.capture(), frame_file(o_.out_dir, e.record.name, f, ""));
           !ok)

@@ -62,6 +62,7 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
       }
       if (f.predicted_ms >= 0) frame["predicted_ms"] = f.predicted_ms;
       if (f.occlusion_ms >= 0) frame["occlusion_ms"] = f.occlusion_ms;
+      if (f.upload_ms > 0) frame["upload_ms"] = f.upload_ms;
       if (report.pipelined) {
         frame["pipelined_frame_ms"] = f.pipelined_frame_ms;
         frame["pipelined_latency_ms"] = f.pipelined_latency_ms;

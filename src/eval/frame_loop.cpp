@@ -20,6 +20,7 @@ double ms_between(Clock::time_point a, Clock::time_point b) {
 
 void fill(FrameTiming& t, const gpu::FrameStats& stats, const DrawList& list) {
   t.gpu_ms = stats.gpu_ms;
+  t.upload_ms = stats.upload_ms;
   t.triangles = stats.triangles;
   t.draw_calls = stats.draw_calls;
   t.mesh_triangles = list.mesh_triangle_count();
@@ -30,7 +31,8 @@ void fill(FrameTiming& t, const gpu::FrameStats& stats, const DrawList& list) {
 }  // namespace
 
 FrameBudget next_budget(double target_ms, const FrameTiming& last) {
-  return {target_ms, last.frame_ms, last.select_ms, last.triangles, last.draw_calls};
+  return {target_ms, last.frame_ms, last.select_ms, last.triangles, last.draw_calls,
+          last.upload_ms};
 }
 
 FrameTiming FrameLoop::run(Technique& technique, const View& view, uint64_t frame,

@@ -33,7 +33,11 @@ struct GpuMesh {
   uint32_t index_count = 0;
   MeshKind kind = MeshKind::proxy;
   bool live = false;
-  uint64_t bytes = 0;
+  uint64_t bytes = 0;  // of its buffers
+  // Scene meshes replaced while walking (replace_scene_mesh): their buffers' sizes, bytes,
+  // and whether new contents may be written into them.
+  uint64_t vertex_capacity = 0, index_capacity = 0, uv_capacity = 0;
+  bool rewritable = false;
   std::vector<uint32_t> indices;  // CPU copy (proxy and textured meshes): many small ranges are
                                   // gathered into one draw
 };
@@ -60,10 +64,14 @@ class GpuResources {
   Result<MeshHandle> add_scene_mesh(std::span<const Vertex> vertices,
                                     std::span<const glm::vec2> uvs,
                                     std::span<const uint32_t> indices);
-  // New contents for a live scene mesh, under the same handle (streamed geometry).
+  // New contents for a live scene mesh, under the same handle (streamed geometry): into its
+  // buffers where they fit (those it had from an earlier replacement), else new ones.
   Result<void> replace_scene_mesh(MeshHandle handle, std::span<const Vertex> vertices,
                                   std::span<const glm::vec2> uvs,
                                   std::span<const uint32_t> indices);
+  // New contents for a live textured mesh, under the same handle (streamed box pages).
+  Result<void> replace_textured_mesh(MeshHandle handle, std::span<const TexturedVertex> vertices,
+                                     std::span<const uint32_t> indices);
   TextureHandle add_texture();
   void free(MeshHandle mesh);
   void free(TextureHandle texture);

@@ -237,6 +237,23 @@ uint64_t MeshPool::end_frame(DrawList& out) {
   return missed;
 }
 
+void MeshPool::set_upload_bytes_per_frame(uint64_t bytes) {
+  std::lock_guard lock(s_->mutex);
+  s_->options.upload_bytes_per_frame = bytes;
+}
+
+uint64_t MeshPool::ready_bytes() const {
+  State& s = *s_;
+  std::lock_guard lock(s.mutex);
+  const uint64_t cap = s.options.upload_bytes_per_frame;
+  uint64_t taken = 0;
+  for (size_t n = 0; n < s.done.size(); ++n) {
+    if (n > 0 && !s.take_all && cap != 0 && taken + s.done[n].bytes() > cap) break;
+    taken += s.done[n].bytes();
+  }
+  return taken;
+}
+
 void MeshPool::wait_for_loads() {
   State& s = *s_;
   std::unique_lock lock(s.mutex);

@@ -3,6 +3,7 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <chrono>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -714,6 +715,7 @@ FrameStats Renderer::draw(const View& view, const DrawList& list) {
 FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int height,
                                const DrawList& list) {
   State& s = *state_;
+  const auto upload_start = std::chrono::steady_clock::now();
   for (const TextureUpload& u : list.uploads)
     if (u.pixels) {
       s.resources.upload(u);
@@ -728,6 +730,15 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
               replaced.ok() ? "" : replaced.error().message.c_str());
     s.bind_scene_attributes(s.resources.mesh(u.mesh).vao);
   }
+  for (const TexturedMeshUpload& u : list.textured_mesh_uploads) {
+    auto replaced =
+        s.resources.replace_textured_mesh(u.mesh, u.data->vertices, u.data->indices);
+    FF_ASSERT(replaced.ok(), "streamed textured mesh %u: %s", u.mesh.id,
+              replaced.ok() ? "" : replaced.error().message.c_str());
+  }
+  const double upload_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - upload_start)
+          .count();
   s.commands.clear();
   s.add_scene_ranges(list.opaque, s.opaque_batches, true);
   s.add_scene_ranges(list.transparent, s.transparent_batches, false);
@@ -763,7 +774,7 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
     glDisable(GL_BLEND);
   }
   s.draw_lines(view_projection, list);
-  return s.end_frame({0.0, list.triangle_count(), calls});
+  return s.end_frame({0.0, list.triangle_count(), calls, upload_ms});
 }
 
 std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawList& list,

@@ -149,6 +149,26 @@ Result<std::vector<std::byte>> Store::get(std::string_view name) const {
       });
 }
 
+Result<void> Store::get_into(std::string_view name, std::span<std::byte> bytes) const {
+  using Stored = std::span<const std::byte>;
+  auto read = state_->read_blob<bool>(
+      name, [&](Codec codec, uint64_t raw_size, Stored stored) -> Result<bool> {
+        if (is_image(codec))
+          return make_error("it holds a ", codec_name(codec), " image; read it with get_image");
+        if (raw_size != bytes.size())
+          return make_error("it holds ", std::to_string(raw_size), " bytes, expected ",
+                            std::to_string(bytes.size()));
+        if (codec == Codec::kZstd) {
+          if (auto ok = zstd_decompress_into(stored, bytes); !ok) return ok.error();
+        } else {
+          std::copy(stored.begin(), stored.end(), bytes.begin());
+        }
+        return true;
+      });
+  if (!read) return read.error();
+  return {};
+}
+
 Result<Image> Store::get_image(std::string_view name) const {
   using Stored = std::span<const std::byte>;
   return state_->read_blob<Image>(

@@ -24,6 +24,9 @@ using Bytes = std::vector<std::byte>;
 Bytes zstd_compress(std::span<const std::byte> bytes, int level = 3);
 // Fails unless `compressed` is exactly one zstd frame that declares and holds `raw_size` bytes.
 Result<Bytes> zstd_decompress(std::span<const std::byte> compressed, uint64_t raw_size);
+// The same into `out`, whose size is the raw size expected (memory a caller reuses: a fresh
+// buffer costs a page fault a page).
+Result<void> zstd_decompress_into(std::span<const std::byte> compressed, std::span<std::byte> out);
 
 // Baseline JPEG of quality 1..100. Chroma is subsampled 4:2:0 below quality 90 and kept whole
 // (4:4:4) from 90 up, where subsampling's colour bleeding would dominate the error.

@@ -64,6 +64,7 @@ struct FrameRecord {
   double pipelined_frame_ms = 0, pipelined_latency_ms = 0;  // BenchOptions::pipelined
   double predicted_ms = -1;  // the technique's own prediction of frame_ms; < 0: none
   double occlusion_ms = -1;  // of cpu_ms, occlusion culling; < 0: none
+  double upload_ms = 0;      // of frame_ms, the renderer taking in the list's uploads
 };
 
 struct TechniqueRecord {

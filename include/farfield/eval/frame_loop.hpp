@@ -25,6 +25,7 @@ struct FrameTiming {
   double select_ms = 0;   // the technique's select()
   double latency_ms = 0;  // pipelined: selection start to drawing end; else frame_ms
   double gpu_ms = 0;
+  double upload_ms = 0;  // of frame_ms, the renderer's taking in the list's uploads
   uint64_t triangles = 0, draw_calls = 0;
   uint64_t mesh_triangles = 0;  // of the triangles, technique meshes (stand-ins)
   double predicted_ms = -1.0;   // DrawList::predicted_ms

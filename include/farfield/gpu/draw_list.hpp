@@ -1,7 +1,7 @@
 // DrawList: what techniques selected for one frame, as plain data (DESIGN.md). Several
 // techniques may append to one list (composite): every entry names what it draws, scene
 // ranges by index range, technique meshes and textures by the handles the renderer gave out
-// (gpu/device.hpp). The renderer makes the `uploads` and `mesh_uploads` first, then draws `opaque` scene ranges
+// (gpu/device.hpp). The renderer makes the `uploads`, `mesh_uploads` and `textured_mesh_uploads` first, then draws `opaque` scene ranges
 // (of the scene's buffers or of scene meshes: LODs, merged meshes, lit like the scene),
 // `meshes` (depth-tested, unlit, textured or not), the `backdrop`, `transparent` scene ranges
 // blended, and `lines` over the top, each in the order given. Capacity is kept between
@@ -103,6 +103,13 @@ struct TextureUpload {
   bool nearest = false;  // one level sampled at the nearest texel (image levels that add up)
 };
 
+// New contents for a textured mesh (Device::create_textured_mesh), replacing its buffers
+// before anything of the list is drawn, as SceneMeshUpload for scene meshes.
+struct TexturedMeshUpload {
+  MeshHandle mesh;
+  std::shared_ptr<const TexturedMesh> data;
+};
+
 // Geometry in the scene's vertex format for a scene mesh: `uvs` one per vertex, or empty.
 struct SceneMeshData {
   std::vector<Vertex> vertices;
@@ -164,6 +171,7 @@ struct DrawList {
   std::vector<MeshDraw> meshes;
   std::vector<TextureUpload> uploads;
   std::vector<SceneMeshUpload> mesh_uploads;
+  std::vector<TexturedMeshUpload> textured_mesh_uploads;
   std::vector<TexturedQuad> backdrop;
   BackdropMode backdrop_mode = BackdropMode::far;
   std::vector<LineSegment> lines;
@@ -192,6 +200,7 @@ struct DrawList {
     meshes.clear();
     uploads.clear();
     mesh_uploads.clear();
+    textured_mesh_uploads.clear();
     backdrop.clear();
     backdrop_mode = BackdropMode::far;
     lines.clear();
@@ -215,6 +224,16 @@ struct DrawList {
     for (const auto* ranges : {&opaque, &transparent})
       for (const auto& r : *ranges)
         if (r.mesh) n += r.index_count / 3;
+    return n;
+  }
+  // Bytes the uploads copy into GPU memory (those not yet made).
+  uint64_t upload_bytes() const {
+    uint64_t n = 0;
+    for (const TextureUpload& u : uploads)
+      if (u.pixels) n += uint64_t(u.width) * uint64_t(u.height) * uint64_t(u.channels);
+    for (const SceneMeshUpload& u : mesh_uploads) n += u.data->byte_size();
+    for (const TexturedMeshUpload& u : textured_mesh_uploads)
+      n += u.data->vertices.size() * sizeof(TexturedVertex) + u.data->indices.size() * sizeof(uint32_t);
     return n;
   }
 };

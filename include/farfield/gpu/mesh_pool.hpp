@@ -73,6 +73,11 @@ class MeshPool {
   std::optional<MeshHandle> peek(uint64_t key);
   // See above. Returns how many wants of this frame were missed.
   uint64_t end_frame(DrawList& out);
+  // From the next end_frame on (the caller's share of a frame's time; see the option).
+  void set_upload_bytes_per_frame(uint64_t bytes);
+  // The bytes end_frame would take in were it called now (what the loader has done, up to
+  // the frame's upload bytes): a frame's uploads, foreseen before it selects.
+  uint64_t ready_bytes() const;
   // Waits until the loader has nothing left to load (tests, references): the next end_frame
   // takes in everything asked for that fits, however many bytes.
   void wait_for_loads();

@@ -35,6 +35,7 @@ struct FrameStats {
   uint64_t triangles = 0;   // submitted
   uint64_t draw_calls = 0;  // draw commands submitted (a gathered batch of many mesh
                             // ranges counts once)
+  double upload_ms = 0.0;   // CPU time taking in the list's uploads (textures and meshes)
 };
 
 class Renderer final : public Device {

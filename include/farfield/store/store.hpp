@@ -108,6 +108,8 @@ class Store {
   // Errors: no such blob, a checksum mismatch ("blob 'NAME' is corrupted (checksum
   // mismatch)"), a decode failure, or an image blob (use get_image) / a bytes blob (use get).
   Result<std::vector<std::byte>> get(std::string_view name) const;
+  // The same into `bytes`, which must be the blob's size (its memory the caller's to reuse).
+  Result<void> get_into(std::string_view name, std::span<std::byte> bytes) const;
   Result<Image> get_image(std::string_view name) const;
 
   Result<bool> contains(std::string_view name) const;

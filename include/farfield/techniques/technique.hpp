@@ -55,6 +55,7 @@ struct FrameBudget {
   double last_select_ms = 0.0;
   uint64_t last_triangles = 0;
   uint64_t last_draw_calls = 0;
+  double last_upload_ms = 0.0;  // of last_frame_ms, taking in the list's uploads
 };
 
 struct FrameInput {

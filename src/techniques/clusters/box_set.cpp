@@ -26,7 +26,6 @@ constexpr const char* kBoxes = "clusters/boxes";
 constexpr const char* kObjectBoxes = "clusters/box_of_objects";
 constexpr const char* kNodeBoxes = "clusters/box_of_nodes";
 constexpr const char* kPagePrefix = "clusters/box_page_";
-constexpr int kGutter = 2;  // free texels beside each side, so that mipmaps bleed less
 
 // A side's frame: its outward normal, and the image's right and up directions (right x up =
 // normal, so that the quad is counter-clockwise seen from outside).
@@ -229,7 +228,7 @@ void draw_list_of(const Subject& s, const ClusterTree& tree, ObjectSet& objects,
 Result<BoxSet> bake_box_set(const Scene& scene, const ClusterTree& tree, gpu::Renderer& renderer,
                             const BoxSetOptions& options, Progress& progress) {
   const auto start = std::chrono::steady_clock::now();
-  if (options.max_side_px + kGutter > options.page_px || options.min_side_px < 1 ||
+  if (options.max_side_px + kBoxGutterPx > options.page_px || options.min_side_px < 1 ||
       options.min_side_px > options.max_side_px || options.page_px > 16384)
     return make_error(formatted("boxes: sides of %d to %d texels do not fit pages of %d",
                                 options.min_side_px, options.max_side_px, options.page_px));
@@ -302,7 +301,7 @@ Result<BoxSet> bake_box_set(const Scene& scene, const ClusterTree& tree, gpu::Re
     if (at) {
       --page;
     } else {
-      packers.emplace_back(options.page_px, kGutter);
+      packers.emplace_back(options.page_px, kBoxGutterPx);
       at = packers.back().place(sizes);
       set.pages.emplace_back(page_bytes, 0);
     }
@@ -323,20 +322,20 @@ Result<BoxSet> bake_box_set(const Scene& scene, const ClusterTree& tree, gpu::Re
   }
   renderer.set_clear_alpha(1.0f);
   renderer.set_offscreen(0, 0);
+  set.page_count = uint32_t(set.pages.size());
   set.bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return set;
 }
 
-BoxMeshes box_meshes(const BoxSet& set) {
-  BoxMeshes out;
-  out.pages.resize(set.pages.size());
-  out.first_index.resize(set.boxes.size());
-  out.index_count.resize(set.boxes.size());
-  const float texel = set.page_px > 0 ? 1.0f / float(set.page_px) : 0.0f;
-  for (size_t b = 0; b < set.boxes.size(); ++b) {
-    const TexturedBox& box = set.boxes[b];
-    TexturedMesh& mesh = out.pages[box.page];
-    out.first_index[b] = uint32_t(mesh.indices.size());
+TexturedMesh box_mesh(const BoxSet& set, std::span<const uint32_t> boxes,
+                      std::span<uint32_t> first_index, std::span<uint32_t> index_count,
+                      int page_px) {
+  TexturedMesh mesh;
+  const int px = page_px > 0 ? page_px : set.page_px;
+  const float texel = px > 0 ? 1.0f / float(px) : 0.0f;
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const TexturedBox& box = set.boxes[boxes[i]];
+    first_index[i] = uint32_t(mesh.indices.size());
     for (int side = 0; side < 6; ++side) {
       const BoxSide& s = box.sides[side];
       if (s.w == 0) continue;
@@ -351,9 +350,29 @@ BoxMeshes box_meshes(const BoxSet& set) {
       mesh.vertices.push_back({c - r - u, {u0, v1}, 0xffffffffu});  // bottom left
       mesh.vertices.push_back({c + r - u, {u1, v1}, 0xffffffffu});  // bottom right
       mesh.vertices.push_back({c + r + u, {u1, v0}, 0xffffffffu});  // top right
-      for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(base + i);
+      for (uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(base + k);
     }
-    out.index_count[b] = uint32_t(mesh.indices.size()) - out.first_index[b];
+    index_count[i] = uint32_t(mesh.indices.size()) - first_index[i];
+  }
+  return mesh;
+}
+
+BoxMeshes box_meshes(const BoxSet& set) {
+  BoxMeshes out;
+  out.pages.resize(set.page_count);
+  out.first_index.resize(set.boxes.size());
+  out.index_count.resize(set.boxes.size());
+  std::vector<std::vector<uint32_t>> of_page(set.page_count);
+  for (uint32_t b = 0; b < set.boxes.size(); ++b) of_page[set.boxes[b].page].push_back(b);
+  std::vector<uint32_t> first, count;
+  for (uint32_t p = 0; p < set.page_count; ++p) {
+    first.resize(of_page[p].size());
+    count.resize(of_page[p].size());
+    out.pages[p] = box_mesh(set, of_page[p], first, count);
+    for (size_t i = 0; i < of_page[p].size(); ++i) {
+      out.first_index[of_page[p][i]] = first[i];
+      out.index_count[of_page[p][i]] = count[i];
+    }
   }
   return out;
 }
@@ -371,7 +390,14 @@ Result<void> save_box_set(const BoxSet& set, Store& store) {
   return transaction->commit();
 }
 
-Result<BoxSet> load_box_set(const Store& store, const Scene& scene, const ClusterTree& tree) {
+Result<void> read_box_page(const Store& store, const BoxSet& set, uint32_t page,
+                           std::vector<uint8_t>& pixels) {
+  pixels.resize(size_t(set.page_px) * size_t(set.page_px) * 4);
+  return store.get_into(kPagePrefix + std::to_string(page), std::as_writable_bytes(std::span(pixels)));
+}
+
+Result<BoxSet> load_box_set(const Store& store, const Scene& scene, const ClusterTree& tree,
+                            bool pixels) {
   BoxSet set;
   auto present = store.contains(kBoxes);
   if (!present) return present.error();
@@ -396,15 +422,23 @@ Result<BoxSet> load_box_set(const Store& store, const Scene& scene, const Cluste
       if (b != BoxSet::kNone && b >= boxes->size()) return inconsistent("a box past the boxes");
   uint32_t pages = 0;
   for (const TexturedBox& b : *boxes) pages = std::max(pages, b.page + 1);
+  // The pages' sizes from the pack's records, their pixels read now or later.
   for (uint32_t p = 0; p < pages; ++p) {
-    auto page = read_array<uint8_t>(store, (kPagePrefix + std::to_string(p)).c_str());
-    if (!page) return page.error();
-    const int side = int(std::lround(std::sqrt(double(page->size() / 4))));
-    if (side <= 0 || page->size() != size_t(side) * size_t(side) * 4 ||
+    const std::string name = kPagePrefix + std::to_string(p);
+    auto info = store.info(name);
+    if (!info) return info.error();
+    if (!*info) return make_error(store.path(), ": no blob '", name, "'");
+    const uint64_t bytes = (*info)->raw_size;
+    const int side = int(std::lround(std::sqrt(double(bytes / 4))));
+    if (side <= 0 || bytes != uint64_t(side) * uint64_t(side) * 4 ||
         (set.page_px != 0 && side != set.page_px))
       return inconsistent(formatted("box page %u is not a square RGBA8 page", p));
     set.page_px = side;
-    set.pages.push_back(std::move(*page));
+  }
+  set.page_count = pages;
+  for (uint32_t p = 0; pixels && p < pages; ++p) {
+    set.pages.emplace_back();
+    if (auto read = read_box_page(store, set, p, set.pages.back()); !read) return read.error();
   }
   for (const TexturedBox& b : *boxes) {
     if (!(b.error_m >= 0.0f) || !std::isfinite(b.error_m) || b.bounds.empty())

@@ -54,8 +54,14 @@ struct PageLoader {
 }  // namespace
 
 ClusterStream::ClusterStream(const ChunkedScene& scene, const LodSet& lods,
-                             const ClusterTree& tree, const BoxSet& boxes, gpu::Device& device)
-    : scene_(scene), lods_(lods), tree_(tree), boxes_(boxes), device_(device) {}
+                             const ClusterTree& tree, const BoxSet& boxes, BoxAtlas& atlas,
+                             gpu::Device& device)
+    : scene_(scene),
+      lods_(lods),
+      tree_(tree),
+      boxes_(boxes),
+      atlas_(atlas),
+      device_(device) {}
 
 ClusterStream::~ClusterStream() {
   pool_.reset();
@@ -64,8 +70,9 @@ ClusterStream::~ClusterStream() {
 
 Result<std::unique_ptr<ClusterStream>> ClusterStream::create(
     const ChunkedScene& scene, const Store& store, const LodSet& lods, const ClusterTree& tree,
-    const BoxSet& boxes, gpu::Device& device, uint64_t budget_bytes) {
-  std::unique_ptr<ClusterStream> s(new ClusterStream(scene, lods, tree, boxes, device));
+    const BoxSet& boxes, BoxAtlas& atlas, gpu::Device& device, uint64_t budget_bytes) {
+  std::unique_ptr<ClusterStream> s(
+      new ClusterStream(scene, lods, tree, boxes, atlas, device));
   const size_t nodes = tree.nodes.size();
   s->parent_.assign(nodes, UINT32_MAX);
   s->object_node_.assign(scene.index().objects.size(), 0);
@@ -76,8 +83,12 @@ Result<std::unique_ptr<ClusterStream>> ClusterStream::create(
       s->object_node_[tree.objects[k]] = n;
   }
   s->box_node_.assign(boxes.boxes.size(), 0);
-  for (size_t o = 0; o < boxes.object_box.size(); ++o)
-    if (boxes.object_box[o] != BoxSet::kNone) s->box_node_[boxes.object_box[o]] = s->object_node_[o];
+  s->box_object_.assign(boxes.boxes.size(), UINT32_MAX);
+  for (uint32_t o = 0; o < boxes.object_box.size(); ++o)
+    if (const uint32_t b = boxes.object_box[o]; b != BoxSet::kNone) {
+      s->box_node_[b] = s->object_node_[o];
+      s->box_object_[b] = o;
+    }
   for (uint32_t n = 0; n < boxes.node_box.size(); ++n)
     if (boxes.node_box[n] != BoxSet::kNone) s->box_node_[boxes.node_box[n]] = n;
   s->standing_.assign(nodes, 0);
@@ -149,16 +160,22 @@ ClusterStream::Source ClusterStream::source_of(const Choice& c, const glm::vec3&
       return {key_of(Item::chunk, k), -distance_to(scene_.index().objects[c.index].bounds, eye),
               scene_.chunks()[k].first_index};
     }
-    case Choice::Kind::box:
-      break;
+    case Choice::Kind::box: {
+      const TexturedBox& box = boxes_.boxes[c.index];
+      return {kNoMesh, -distance_to(box.bounds, eye), c.index};
+    }
   }
   return {kNoMesh, 0.0f, 0};
 }
 
 void ClusterStream::prefetch(std::span<const Choice> choices, const glm::vec3& eye) {
-  for (const Choice& c : choices)
-    if (const Source s = source_of(c, eye); s.key != kPinned && s.key != kNoMesh)
+  for (const Choice& c : choices) {
+    const Source s = source_of(c, eye);
+    if (s.key == kNoMesh)
+      atlas_.want(s.index_base, s.priority, true);
+    else if (s.key != kPinned)
       pool_->prefetch(s.key, s.priority);
+  }
 }
 
 uint32_t ClusterStream::anchor(const Choice& c) const {
@@ -188,7 +205,8 @@ ClusterStream::StandIn ClusterStream::node_stand_in(uint32_t node, Placed& out) 
         standing_[n] = 1;
         return StandIn::node;
       }
-    if (n < boxes_.node_box.size() && boxes_.node_box[n] != BoxSet::kNone) {
+    if (n < boxes_.node_box.size() && boxes_.node_box[n] != BoxSet::kNone &&
+        atlas_.drawable(boxes_.node_box[n])) {
       out = {{Choice::Kind::box, boxes_.node_box[n]}, {}, 0};
       if (!standing_[n]) standing_list_.push_back(n);
       standing_[n] = 1;
@@ -204,7 +222,16 @@ ClusterStream::StandIn ClusterStream::stand_in(const Choice& c, Placed& out) {
     case Choice::Kind::cluster:
       return c.index > 0 ? node_stand_in(parent_[c.index], out) : StandIn::none;
     case Choice::Kind::box:
-      return StandIn::none;  // boxes are always resident
+      object = box_object_[c.index];
+      if (object == UINT32_MAX)
+        return node_stand_in(box_node_[c.index], out);  // a node's box: its cluster, or above
+      // An object's box: its coarsest resident level, else what stands in above it.
+      for (uint32_t k = lods_.first_lod[object + 1]; k-- > lods_.first_lod[object];)
+        if (auto mesh = resident_lod_page(lods_.lod_page[k])) {
+          out = {{Choice::Kind::lod, k}, *mesh, lods_.pages[lods_.lod_page[k]].first_index};
+          return StandIn::object;
+        }
+      return node_stand_in(object_node_[object], out);
     case Choice::Kind::lod:
       object = lods_.lods[c.index].object;
       finer_than = c.index + 1;
@@ -220,7 +247,8 @@ ClusterStream::StandIn ClusterStream::stand_in(const Choice& c, Placed& out) {
       out = {{Choice::Kind::lod, k}, *mesh, lods_.pages[lods_.lod_page[k]].first_index};
       return StandIn::object;
     }
-  if (object < boxes_.object_box.size() && boxes_.object_box[object] != BoxSet::kNone) {
+  if (object < boxes_.object_box.size() && boxes_.object_box[object] != BoxSet::kNone &&
+      atlas_.drawable(boxes_.object_box[object])) {
     out = {{Choice::Kind::box, boxes_.object_box[object]}, {}, 0};
     return StandIn::object;
   }
@@ -243,9 +271,19 @@ uint64_t ClusterStream::place(std::span<const Choice> choices, const glm::vec3& 
   for (const Choice& c : choices) {
     const Source source = source_of(c, eye);
     Placed placed{c, {}, source.index_base};
-    const std::optional<MeshHandle> mesh = source.key == kPinned   ? std::optional(pinned_)
-                                           : source.key == kNoMesh ? std::optional(MeshHandle{})
-                                                                   : pool_->want(source.key, source.priority);
+    std::optional<MeshHandle> mesh;
+    if (source.key == kPinned) {
+      mesh = pinned_;
+    } else if (source.key == kNoMesh) {
+      if (atlas_.drawable(source.index_base)) {
+        mesh = MeshHandle{};
+        placed.index_base = 0;
+      } else {
+        atlas_.want(source.index_base, source.priority);
+      }
+    } else {
+      mesh = pool_->want(source.key, source.priority);
+    }
     if (mesh) {
       placed.mesh = *mesh;
       candidates_.push_back({placed, anchor(c), StandIn::none});

@@ -18,6 +18,9 @@ namespace farfield {
 
 namespace {
 
+// Under a budget with the scene on disk, the share of a frame's time its uploads may take.
+constexpr double kUploadShare = 0.25;
+
 constexpr SettingSpec kSettings[] = {
     {.key = "error_px",
      .type = SettingType::number,
@@ -376,7 +379,8 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
     if (!lods) return lods.error();
     auto tree = load_cluster_tree(*context.store, context.scene, geometry);
     if (!tree) return tree.error();
-    auto boxes = load_box_set(*context.store, context.scene, *tree);
+    // On disk the boxes' images are read as the walk wants them (box_atlas.hpp).
+    auto boxes = load_box_set(*context.store, context.scene, *tree, !context.on_disk);
     if (!boxes) return boxes.error();
     auto accuracy = load_accuracy_table(*context.store, *lods, *tree, *boxes);
     if (!accuracy) return accuracy.error();
@@ -409,6 +413,7 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   const Scene& scene = context.scene;
   gpu::Device& device = context.device;
   stream_.reset();
+  atlas_.reset();  // its loader reads boxes_
   lods_ = std::move(lods);
   tree_ = std::move(tree);
   boxes_ = std::move(boxes);
@@ -417,9 +422,16 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   clusters_ = count_clusters(tree_);
   resources_.bind(device);
   lod_mesh_ = cluster_mesh_ = {};
+  upload_frame_ = false;
+  auto atlas = context.on_disk
+                       ? BoxAtlas::create_streamed(boxes_, resources_, context.store->path(),
+                                               gpu::MeshPoolOptions{}.upload_bytes_per_frame)
+                       : BoxAtlas::create(boxes_, resources_);
+  if (!atlas) return make_error("clusters: ", atlas.error().message);
+  atlas_ = std::move(*atlas);
   if (context.on_disk) {
     auto stream = ClusterStream::create(*context.on_disk, *context.store, lods_, tree_, boxes_,
-                                        device, context.cache_bytes);
+                                        *atlas_, device, context.cache_bytes);
     if (!stream) return make_error("clusters: ", stream.error().message);
     stream_ = std::move(*stream);
   }
@@ -432,20 +444,6 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
     auto mesh = resources_.scene_mesh(tree_.vertices, tree_.uvs, tree_.indices);
     if (!mesh) return make_error("clusters: ", mesh.error().message);
     cluster_mesh_ = *mesh;
-  }
-  box_meshes_.clear();
-  box_textures_.clear();
-  upload_frame_ = false;
-  {
-    BoxMeshes meshes = box_meshes(boxes_);
-    for (const TexturedMesh& page : meshes.pages) {
-      auto mesh = resources_.textured_mesh(page.vertices, page.indices);
-      if (!mesh) return make_error("clusters: ", mesh.error().message);
-      box_meshes_.push_back(*mesh);
-      box_textures_.push_back(resources_.texture());
-    }
-    box_first_ = std::move(meshes.first_index);
-    box_count_ = std::move(meshes.index_count);
   }
   selection_ = std::make_unique<ClusterSelection>(scene, tree_, lods_, &boxes_);
   ahead_selection_.reset();
@@ -467,6 +465,8 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = switches_ = boxes_drawn_ = 0;
   coarser_frames_ = stood_in_ = 0;
   cost_ = {};
+  upload_cost_ = {};
+  last_upload_bytes_ = 0;
   return {};
 }
 
@@ -514,16 +514,31 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   // and held the 10M fly over 20 ms for its first 13 frames. The model learns from
   // every frame, so that it predicts each frame's time (bench's predicted_ms) in both modes.
   // The frame that took the boxes' pages to the renderer timed their upload and mipmaps
-  // (a second and more), not its drawing: it is not learnt from.
+  // (a second and more), not its drawing: it is not learnt from. Streamed data taken in is
+  // priced apart (upload_cost.hpp): the model of triangles and draws learns the frame less
+  // its uploads, and a frame's budget is what its foreseen uploads leave.
   if (!upload_frame_) {
+    upload_cost_.observe(last_upload_bytes_, input.budget.last_upload_ms);
     cost_.observe(double(input.budget.last_triangles), double(input.budget.last_draw_calls),
-                  input.budget.last_frame_ms);
+                  input.budget.last_frame_ms - input.budget.last_upload_ms);
     budget_target_.observe(last_predicted_ms_, input.budget.last_frame_ms);
   }
   upload_frame_ = false;
   last_predicted_ms_ = -1.0;
   if (input.budget.target_ms > 0.0) {
-    const double target_ms = budget_target_.target_ms(input.budget.target_ms);
+    if (stream_ && upload_cost_.predict_ms(1 << 20) > 0.0) {
+      // What the scene on disk takes in a frame: at most a quarter of the budget by the
+      // uploads' measured cost (half of it the pages' and chunks', half the boxes' tiles), at
+      // least a tile's worth (a 4 MB cap cost this VM's frames up to 15 ms of page faults).
+      const double bytes = kUploadShare * input.budget.target_ms /
+                           upload_cost_.predict_ms(1 << 20) * double(1 << 20) / 2.0;
+      const uint64_t cap = std::max<uint64_t>(uint64_t(bytes), uint64_t(1) << 20);
+      stream_->set_upload_bytes_per_frame(cap);
+      atlas_->set_upload_bytes_per_frame(cap);
+    }
+    const uint64_t foreseen = stream_ ? stream_->ready_bytes() + atlas_->ready_bytes() : 0;
+    const double target_ms = std::max(0.0, budget_target_.target_ms(input.budget.target_ms) -
+                                               upload_cost_.predict_ms(foreseen));
     sv.max_triangles = 0.0;
     if (cost_.ready()) {
       sv.max_triangles = cost_.triangles_within(target_ms);
@@ -606,10 +621,13 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     push(object.first_index - p.index_base, object.index_count, object.material, p.mesh);
   }
   streamed_whole_.clear();
-  const size_t box_draws = add_boxes(out);
+  const size_t box_draws = atlas_->add(boxes_chosen_, out);
+  last_upload_bytes_ = out.upload_bytes();
   if (cost_.ready()) {
-    out.predicted_ms = cost_.predict_ms(
-        double(stats.triangles), double(out.opaque.size() + out.transparent.size() + box_draws));
+    out.predicted_ms = cost_.predict_ms(double(stats.triangles),
+                                        double(out.opaque.size() + out.transparent.size() +
+                                               box_draws)) +
+                       upload_cost_.predict_ms(last_upload_bytes_);
     last_predicted_ms_ = out.predicted_ms;
   }
 }
@@ -626,6 +644,7 @@ void ClustersTechnique::place(DrawList& out) {
                          : c.kind == Choice::Kind::lod   ? lod_mesh_
                                                          : MeshHandle{},
                          0});
+    upload_frame_ = atlas_->end_frame(out);
     return;
   }
   uint64_t fewest = UINT64_MAX;
@@ -633,53 +652,20 @@ void ClustersTechnique::place(DrawList& out) {
     const uint64_t stood_in = stream_->place(choices_, last_eye_, placed_);
     stream_->prefetch(ahead_choices_, ahead_eye_);
     stream_->end_frame(out);
+    upload_frame_ = atlas_->end_frame(out) || upload_frame_;
     if (stood_in == 0) return;
     // As brute.wait: given up when three rounds in a row load nothing more, or a page cannot
     // be read.
     stalled = stood_in < fewest ? 0 : stalled + 1;
     fewest = std::min(fewest, stood_in);
-    if (!options_.wait || stalled >= 3 || !stream_->failure().empty()) {
+    if (!options_.wait || stalled >= 3 || !failure().empty()) {
       ++coarser_frames_;
       stood_in_ += stood_in;
       return;
     }
     stream_->wait_for_loads();
+    atlas_->wait_for_loads();
   }
-}
-
-// The chosen boxes by page, neighbours in a page one draw; the pages' pixels go to the
-// renderer with the first frame (the list keeps them until it is drawn). Returns the draws
-// the renderer will count for them: a page's ranges, or one where it gathers them.
-size_t ClustersTechnique::add_boxes(DrawList& out) {
-  if (!boxes_.pages.empty()) {  // not yet uploaded
-    for (size_t p = 0; p < boxes_.pages.size(); ++p) {
-      auto pixels = std::make_shared<std::vector<uint8_t>>(std::move(boxes_.pages[p]));
-      out.uploads.push_back(
-          {box_textures_[p], boxes_.page_px, boxes_.page_px, 4, pixels->data(), pixels, true});
-    }
-    boxes_.pages.clear();
-    upload_frame_ = true;
-  }
-  std::sort(boxes_chosen_.begin(), boxes_chosen_.end());
-  const size_t first = out.meshes.size();
-  for (uint32_t b : boxes_chosen_) {
-    const uint32_t page = boxes_.boxes[b].page;
-    const MeshHandle mesh = box_meshes_[page];
-    if (out.meshes.size() > first && out.meshes.back().mesh == mesh &&
-        out.meshes.back().first_index + out.meshes.back().index_count == box_first_[b])
-      out.meshes.back().index_count += box_count_[b];
-    else
-      out.meshes.push_back({mesh, box_first_[b], box_count_[b], box_textures_[page]});
-  }
-  boxes_chosen_.clear();
-  size_t draws = 0;
-  for (size_t b = first; b < out.meshes.size();) {
-    size_t e = b;
-    while (e < out.meshes.size() && out.meshes[e].mesh == out.meshes[b].mesh) ++e;
-    draws += e - b > kMeshRangesPerCall ? 1 : e - b;
-    b = e;
-  }
-  return draws;
 }
 
 void ClustersTechnique::tint(DrawList& list) const {
@@ -728,6 +714,9 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
                     {"cache_evictions", double(c.evictions)},
                     {"cache_peak_mb", double(c.peak_resident_bytes) / 1e6},
                     {"pinned_mb", double(stream_->pinned_bytes()) / 1e6},
+                    {"box_tiles", double(atlas_->tiles())},
+                    {"box_tiles_in", double(atlas_->tiles_in())},
+                    {"box_bytes_read", double(atlas_->bytes_read())},
                     {"coarser_frames", double(coarser_frames_)},
                     {"stood_in", double(stood_in_)}});
   }
@@ -735,7 +724,8 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
 }
 
 std::string ClustersTechnique::failure() const {
-  return stream_ ? stream_->failure() : std::string();
+  if (stream_ && !stream_->failure().empty()) return stream_->failure();
+  return atlas_ ? atlas_->failure() : std::string();
 }
 
 }  // namespace farfield

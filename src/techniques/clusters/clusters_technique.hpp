@@ -19,6 +19,7 @@
 #include "farfield/techniques/clusters/cluster_tree.hpp"
 #include "farfield/techniques/clusters/frame_cost.hpp"
 #include "farfield/techniques/clusters/lod_set.hpp"
+#include "farfield/techniques/clusters/upload_cost.hpp"
 #include "farfield/techniques/object_set.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
 
@@ -67,21 +68,18 @@ class ClustersTechnique final : public Technique {
   Result<void> use(LodSet lods, ClusterTree tree, BoxSet boxes, AccuracyTable accuracy,
                    const LoadContext& context);
   void place(DrawList& out);
-  size_t add_boxes(DrawList& out);
 
   ClustersOptions options_;
   const Scene* scene_ = nullptr;
   LodSet lods_;
   ClusterTree tree_;
   size_t clusters_ = 0;  // nodes of tree_ with a cluster
-  BoxSet boxes_;         // its pages go to the renderer with the first frame (then emptied)
+  BoxSet boxes_;  // without pixels: they are atlas_'s
   AccuracyTable accuracy_;
   float accuracy_px_ = 0.0f;            // texels across a subject at the tables' finest comparison
-  std::vector<MeshHandle> box_meshes_;  // per page
-  std::vector<TextureHandle> box_textures_;
-  std::vector<uint32_t> box_first_, box_count_;  // per box: its indices in its page's mesh
+  std::unique_ptr<BoxAtlas> atlas_;
   std::vector<uint32_t> boxes_chosen_;
-  bool upload_frame_ = false;  // the last frame uploaded the pages
+  bool upload_frame_ = false;  // the last frame uploaded every page at once
   double last_predicted_ms_ = -1.0;  // the last frame's; < 0: none
   BudgetTarget budget_target_;
   glm::vec3 last_eye_{0.0f};
@@ -101,7 +99,9 @@ class ClustersTechnique final : public Technique {
   std::unique_ptr<Occluders> occluders_;       // boxes; null: none (clusters.occlusion=0)
   std::unique_ptr<Occluders> mesh_occluders_;  // the objects' own triangles
   OcclusionMap occlusion_;
-  FrameCostModel cost_;  // budget mode: fitted to measured frames
+  FrameCostModel cost_;  // budget mode: fitted to measured frames, less their uploads
+  UploadCost upload_cost_;
+  uint64_t last_upload_bytes_ = 0;  // the last frame's list's
   // figures()
   uint64_t frames_ = 0, clusters_drawn_ = 0, lods_drawn_ = 0, full_drawn_ = 0, visited_ = 0;
   uint64_t boxes_drawn_ = 0;

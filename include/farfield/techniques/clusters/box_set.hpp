@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "farfield/core/bounds.hpp"
@@ -43,6 +44,8 @@ struct TexturedBox {
 };
 static_assert(sizeof(TexturedBox) == 80);
 
+inline constexpr int kBoxGutterPx = 2;  // free texels beside each side, so that mipmaps bleed less
+
 struct BoxSetOptions {
   uint32_t min_triangles = 32;  // an object with fewer gets no box (a box draws up to 12)
   bool clusters = false;        // boxes for the clusters too (the paper's)
@@ -55,7 +58,10 @@ struct BoxSetOptions {
 struct BoxSet {
   static constexpr uint32_t kNone = UINT32_MAX;
   int page_px = 0;
-  std::vector<std::vector<uint8_t>> pages;  // RGBA8, page_px x page_px, rows from the top
+  uint32_t page_count = 0;
+  // RGBA8, page_px x page_px, rows from the top; empty where loaded without them (read each
+  // with read_box_page).
+  std::vector<std::vector<uint8_t>> pages;
   std::vector<TexturedBox> boxes;           // depth first over the hierarchy
   std::vector<uint32_t> object_box;         // per scene object: into boxes, or kNone
   std::vector<uint32_t> node_box;           // per ClusterTree node (clustered ones): or kNone
@@ -76,11 +82,22 @@ struct BoxMeshes {
   std::vector<uint32_t> first_index, index_count;
 };
 BoxMeshes box_meshes(const BoxSet& set);
+// The front sides of `boxes` (all of one page, of page_px texels; 0: the set's) as one mesh:
+// box boxes[i] is indices [first_index[i], first_index[i] + index_count[i]).
+TexturedMesh box_mesh(const BoxSet& set, std::span<const uint32_t> boxes,
+                      std::span<uint32_t> first_index, std::span<uint32_t> index_count,
+                      int page_px = 0);
 
 // Blobs under "clusters/box*" (replacing a set there) and back; a pack without them holds no
 // boxes (an empty set). Refused: sides past their page, pages of the wrong size, boxes not of
 // `scene`'s objects or `tree`'s nodes.
 Result<void> save_box_set(const BoxSet& set, Store& store);
-Result<BoxSet> load_box_set(const Store& store, const Scene& scene, const ClusterTree& tree);
+// Without `pixels` the pages are left in the pack (page_count and page_px from their sizes):
+// read each with read_box_page.
+Result<BoxSet> load_box_set(const Store& store, const Scene& scene, const ClusterTree& tree,
+                            bool pixels = true);
+// Page `page`'s pixels into `pixels` (resized; its memory reused).
+Result<void> read_box_page(const Store& store, const BoxSet& set, uint32_t page,
+                           std::vector<uint8_t>& pixels);
 
 }  // namespace farfield

@@ -6,7 +6,8 @@
 // asked for (the nearest first) and stood in for by the nearest coarser representation that
 // is: a coarser level or the box of the same object, else the cluster (or box) of the lowest
 // node above it whose is, which then stands for everything beneath it, so that the frame has
-// no holes and draws nothing twice. The first pages of the hierarchy (its top: the root's
+// no holes and draws nothing twice. Boxes likewise wait for their tile (box_atlas.hpp).
+// The first pages of the hierarchy (its top: the root's
 // cluster and the nodes below it, breadth first) are read when the walk starts and never
 // leave, so that there is always something to stand in.
 #pragma once
@@ -23,6 +24,7 @@
 #include "farfield/gpu/draw_list.hpp"
 #include "farfield/gpu/mesh_pool.hpp"
 #include "farfield/scene/chunked_scene.hpp"
+#include "farfield/techniques/clusters/box_atlas.hpp"
 #include "farfield/techniques/clusters/box_set.hpp"
 #include "farfield/techniques/clusters/cluster_selection.hpp"
 #include "farfield/techniques/clusters/cluster_tree.hpp"
@@ -34,13 +36,15 @@ class Store;
 
 class ClusterStream {
  public:
-  // `lods` and `tree` (loaded index only), `boxes` and `scene` outlive the stream; `store` is
-  // the pack they came from (the top pages are read from it now; the loader thread opens the
-  // same file again). `budget_bytes` bounds the pages and chunks resident together.
+  // `lods` and `tree` (loaded index only), `boxes`, `box_pages` and `scene` outlive the
+  // stream; `store` is the pack they came from (the top pages are read from it now; the loader
+  // thread opens the same file again). `budget_bytes` bounds the pages and chunks resident
+  // together.
   static Result<std::unique_ptr<ClusterStream>> create(const ChunkedScene& scene,
                                                        const Store& store, const LodSet& lods,
                                                        const ClusterTree& tree,
-                                                       const BoxSet& boxes, gpu::Device& device,
+                                                       const BoxSet& boxes, BoxAtlas& atlas,
+                                                       gpu::Device& device,
                                                        uint64_t budget_bytes);
   ~ClusterStream();
   ClusterStream(const ClusterStream&) = delete;
@@ -62,6 +66,8 @@ class ClusterStream {
   // After place and prefetch (MeshPool::end_frame); returns the wants missed.
   uint64_t end_frame(DrawList& out) { return pool_->end_frame(out); }
   void wait_for_loads() { pool_->wait_for_loads(); }
+  uint64_t ready_bytes() const { return pool_->ready_bytes(); }
+  void set_upload_bytes_per_frame(uint64_t bytes) { pool_->set_upload_bytes_per_frame(bytes); }
   const gpu::MeshPoolCounters& counters() const { return pool_->counters(); }
   std::string failure() const { return pool_->failure(); }
   // Bytes of the top pages held for the whole walk (outside the pool's budget).
@@ -69,9 +75,9 @@ class ClusterStream {
 
  private:
   ClusterStream(const ChunkedScene& scene, const LodSet& lods, const ClusterTree& tree,
-                const BoxSet& boxes, gpu::Device& device);
+                const BoxSet& boxes, BoxAtlas& atlas, gpu::Device& device);
   // Where a choice's triangles are: the pool's key for the page or chunk that holds them
-  // (kPinned: the pinned top; kNoMesh: a box), how near (the pool's priority), and the first
+  // (kPinned: the pinned top; kNoMesh: a box, `index_base`), how near (the pool's priority), and the first
   // index of that page or chunk.
   static constexpr uint64_t kPinned = UINT64_MAX, kNoMesh = UINT64_MAX - 1;
   struct Source {
@@ -97,6 +103,7 @@ class ClusterStream {
   const LodSet& lods_;
   const ClusterTree& tree_;
   const BoxSet& boxes_;
+  BoxAtlas& atlas_;
   gpu::Device& device_;
   std::unique_ptr<gpu::MeshPool> pool_;
   MeshHandle pinned_;          // tree pages [0, pinned_pages_), end to end
@@ -105,6 +112,7 @@ class ClusterStream {
   std::vector<uint32_t> parent_;          // per node; the root's: UINT32_MAX
   std::vector<uint32_t> object_node_;     // per object: the node whose own objects hold it
   std::vector<uint32_t> box_node_;        // per box: the node it lies at
+  std::vector<uint32_t> box_object_;      // per box: its object; UINT32_MAX: a node's
   std::vector<uint8_t> standing_;        // per node: standing in this frame (2: placed)
   std::vector<uint32_t> standing_list_;  // those nodes
   struct Candidate {
