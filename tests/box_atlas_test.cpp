@@ -136,10 +136,26 @@ TEST(BoxTiling, ATileHoldsItsBoxesPixelsAsTheirPageAndTheMeshPointsAtThem) {
   }
 }
 
+TEST(BoxTiling, TilesOfThePagesSizeAreThePages) {
+  const Synthetic s = synthetic_boxes();
+  for (int px : {0, 2048, 4096}) {
+    const BoxTiling t = tile_boxes(s.set, px);
+    EXPECT_TRUE(t.whole_pages);
+    ASSERT_EQ(t.page_of_tile, (std::vector<uint32_t>{0, 1}));
+    EXPECT_EQ(t.tile_px, (std::vector<int>{2048, 2048}));
+    for (uint32_t b = 0; b < s.set.boxes.size(); ++b) {
+      EXPECT_EQ(t.tiles.boxes[b].page, s.set.boxes[b].page);
+      EXPECT_EQ(t.tiles.boxes[b].sides[0].x, s.set.boxes[b].sides[0].x);
+    }
+    EXPECT_EQ(t.boxes_of(0).size() + t.boxes_of(1).size(), s.set.boxes.size());
+  }
+}
+
 TEST(BoxTiling, NoBoxesNoTiles) {
   BoxSet none;
   const BoxTiling t = tile_boxes(none, 512);
   EXPECT_TRUE(t.page_of_tile.empty());
+  EXPECT_EQ(t.tile_first, std::vector<uint32_t>{0});
   EXPECT_EQ(t.tiles.page_count, 0u);
 }
 

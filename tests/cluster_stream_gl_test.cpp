@@ -88,7 +88,9 @@ void load_walks(Walks& w, std::initializer_list<const char*> streamed_settings, 
   ASSERT_TRUE(whole && streamed);
   w.whole = std::move(*whole);
   w.streamed = std::move(*streamed);
-  TechniqueSettings shared = test::settings_of({"clusters.occluders=boxes"});
+  // The same tiles of the boxes both ways (with the scene in memory the default is the pages).
+  TechniqueSettings shared =
+      test::settings_of({"clusters.occluders=boxes", "clusters.box_tile_px=512"});
   for (const char* s : both_settings) ASSERT_TRUE(shared.add(s));
   auto in_memory = make_technique("clusters", shared);
   ASSERT_TRUE(in_memory);

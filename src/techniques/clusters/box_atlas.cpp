@@ -37,6 +37,24 @@ std::vector<int> sides_tallest_first(const TexturedBox& box) {
 // twice that and more, as needed (each box fitted its page).
 BoxTiling tile_boxes(const BoxSet& set, int tile_px) {
   BoxTiling t;
+  if (tile_px <= 0 || tile_px >= set.page_px) {
+    t.whole_pages = true;
+    t.tiles.page_px = set.page_px;
+    t.tiles.page_count = set.page_count;
+    t.tiles.boxes = set.boxes;
+    t.tiles.object_box = set.object_box;
+    t.tiles.node_box = set.node_box;
+    t.tile_px.assign(set.page_count, set.page_px);
+    std::vector<std::vector<uint32_t>> of_page(set.page_count);
+    for (uint32_t b = 0; b < set.boxes.size(); ++b) of_page[set.boxes[b].page].push_back(b);
+    for (uint32_t p = 0; p < set.page_count; ++p) {
+      t.page_of_tile.push_back(p);
+      t.tile_first.push_back(uint32_t(t.boxes_by_tile.size()));
+      t.boxes_by_tile.insert(t.boxes_by_tile.end(), of_page[p].begin(), of_page[p].end());
+    }
+    t.tile_first.push_back(uint32_t(t.boxes_by_tile.size()));
+    return t;
+  }
   t.tiles.page_px = std::min(tile_px, set.page_px);
   t.tiles.boxes = set.boxes;
   t.tiles.object_box = set.object_box;
@@ -213,8 +231,8 @@ struct BoxAtlas::Loader {
   }
 };
 
-BoxAtlas::BoxAtlas(const BoxSet& boxes, gpu::OwnedResources& resources)
-    : tiling_(tile_boxes(boxes)) {
+BoxAtlas::BoxAtlas(const BoxSet& boxes, gpu::OwnedResources& resources, int tile_px)
+    : tiling_(tile_boxes(boxes, tile_px)) {
   for (uint32_t t = 0; t < tiles(); ++t) textures_.push_back(resources.texture());
   drawable_.assign(tiles(), 0);
   asked_.assign(tiles(), 0);
@@ -232,10 +250,11 @@ BoxAtlas::~BoxAtlas() {
   loader_->thread.join();
 }
 
-Result<std::unique_ptr<BoxAtlas>> BoxAtlas::create(BoxSet& boxes, gpu::OwnedResources& resources) {
+Result<std::unique_ptr<BoxAtlas>> BoxAtlas::create(BoxSet& boxes, gpu::OwnedResources& resources,
+                                                  int tile_px) {
   FF_ASSERT(boxes.pages.size() == boxes.page_count, "%zu box pages of %u", boxes.pages.size(),
             boxes.page_count);
-  std::unique_ptr<BoxAtlas> a(new BoxAtlas(boxes, resources));
+  std::unique_ptr<BoxAtlas> a(new BoxAtlas(boxes, resources, tile_px));
   for (uint32_t t = 0; t < a->tiles(); ++t) {
     const int px = a->tiling_.tile_px[t];
     CutTile cut = mesh_of(a->tiling_, t);
@@ -249,7 +268,8 @@ Result<std::unique_ptr<BoxAtlas>> BoxAtlas::create(BoxSet& boxes, gpu::OwnedReso
     }
     const uint32_t page = a->tiling_.page_of_tile[t];
     auto pixels = std::make_shared<std::vector<uint8_t>>(
-        cut_tile(boxes, a->tiling_, t, boxes.pages[page]));
+        a->tiling_.whole_pages ? std::move(boxes.pages[page])
+                               : cut_tile(boxes, a->tiling_, t, boxes.pages[page]));
     a->given_.push_back({a->textures_[t], px, px, 4, pixels->data(), pixels, true});
     // A page's tiles follow each other: let it go after its last.
     if (t + 1 == a->tiles() || a->tiling_.page_of_tile[t + 1] != page)
@@ -264,8 +284,9 @@ Result<std::unique_ptr<BoxAtlas>> BoxAtlas::create(BoxSet& boxes, gpu::OwnedReso
 Result<std::unique_ptr<BoxAtlas>> BoxAtlas::create_streamed(const BoxSet& boxes,
                                                             gpu::OwnedResources& resources,
                                                             std::string pack,
-                                                            uint64_t upload_bytes_per_frame) {
-  std::unique_ptr<BoxAtlas> a(new BoxAtlas(boxes, resources));
+                                                            uint64_t upload_bytes_per_frame,
+                                                            int tile_px) {
+  std::unique_ptr<BoxAtlas> a(new BoxAtlas(boxes, resources, tile_px));
   for (uint32_t t = 0; t < a->tiles(); ++t) {
     auto mesh = resources.textured_mesh({}, {});
     if (!mesh) return mesh.error();

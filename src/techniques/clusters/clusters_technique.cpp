@@ -20,6 +20,8 @@ namespace {
 
 // Under a budget with the scene on disk, the share of a frame's time its uploads may take.
 constexpr double kUploadShare = 0.25;
+// With the scene on disk, the boxes' tiles by default (box_atlas.hpp).
+constexpr int kStreamedTilePx = 512;
 
 constexpr SettingSpec kSettings[] = {
     {.key = "error_px",
@@ -212,6 +214,17 @@ constexpr SettingSpec kSettings[] = {
              "pages (the nearest first); 0: no prefetch",
      .min = 0,
      .max = 1000},
+    {.key = "box_tile_px",
+     .type = SettingType::integer,
+     .default_value = "0",
+     .help = "the boxes' images are drawn from tiles of this many texels a side, the bake's "
+             "pages' boxes packed again (larger for a box that does not fit one); 0: 512 with "
+             "the scene left on disk (--cache-mb: a tile is read as the walk wants its boxes), "
+             "the bake's pages with the scene in memory (fewer textures to draw from); the "
+             "pages' size or more: the pages",
+     .unit = "texels",
+     .min = 0,
+     .max = 16384},
     {.key = "threads",
      .type = SettingType::integer,
      .default_value = "0",
@@ -264,6 +277,7 @@ const TechniqueDescriptor clusters_descriptor{
       o.hysteresis = v.integer("hysteresis");
       o.wait = v.flag("wait");
       o.prefetch_frames = v.integer("prefetch_frames");
+      o.box_tile_px = v.integer("box_tile_px");
       o.occlusion = v.flag("occlusion");
       o.occluders = v.text("occluders") == "boxes"    ? ClustersOptions::Occluders::boxes
                     : v.text("occluders") == "meshes" ? ClustersOptions::Occluders::meshes
@@ -424,9 +438,11 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   lod_mesh_ = cluster_mesh_ = {};
   upload_frame_ = false;
   auto atlas = context.on_disk
-                       ? BoxAtlas::create_streamed(boxes_, resources_, context.store->path(),
-                                               gpu::MeshPoolOptions{}.upload_bytes_per_frame)
-                       : BoxAtlas::create(boxes_, resources_);
+                   ? BoxAtlas::create_streamed(
+                         boxes_, resources_, context.store->path(),
+                         gpu::MeshPoolOptions{}.upload_bytes_per_frame,
+                         options_.box_tile_px > 0 ? options_.box_tile_px : kStreamedTilePx)
+                   : BoxAtlas::create(boxes_, resources_, options_.box_tile_px);
   if (!atlas) return make_error("clusters: ", atlas.error().message);
   atlas_ = std::move(*atlas);
   if (context.on_disk) {

@@ -46,6 +46,7 @@ struct ClustersOptions {
   HysteresisRule hysteresis_rule = HysteresisRule::paper;
   bool wait = false;      // scene on disk: wait for the pages chosen (tests, references)
   int prefetch_frames = 15;  // scene on disk: ask for where the viewer will be; 0: not
+  int box_tile_px = 0;  // the boxes' tiles (box_atlas.hpp); 0: 512 on disk, the pages in memory
   bool occlusion = true;  // cull with what the nearest opaque objects hide
   // Boxes inside them, their own triangles, or boxes under a budget and triangles without.
   enum class Occluders : uint8_t { automatic, boxes, meshes } occluders = Occluders::automatic;

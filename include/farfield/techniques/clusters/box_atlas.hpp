@@ -4,15 +4,17 @@
 // its 25 pages), so each page's boxes are packed again, in their order (depth first over the
 // hierarchy: neighbours together), into tiles of 512^2 (larger for a box whose sides do not
 // fit one), each a texture of its own and a mesh of its boxes' sides. Two ways in:
-// - given the pages' pixels (the scene in memory), every tile is cut now and goes to the
-//   renderer with the first frame;
+// - given the pages' pixels (the scene in memory), every tile is made now and goes to the
+//   renderer with the first frame (by default the tiles are then the pages themselves: with
+//   everything resident, 512 tiles' 400 textures cost the 10M street at 33 ms a tenth of its
+//   triangles and a third more of its frames over 1.1x the budget, and a copy of the pixels);
 // - left in the pack (the scene on disk, issue 16), a tile is cut on a background thread once
 //   a frame wants one of its boxes (the nearest first; the page read and decoded once for
 //   the tiles asked of it in a row), and taken in with at most `upload_bytes_per_frame` a
 //   frame, so that neither the walk's start nor any frame waits for them. A box is drawable
 //   once its tile is in a frame's list; until then the walk stands in for it
 //   (cluster_stream.hpp). Tiles once in stay for the walk.
-// Both ways draw the same pixels (tiles mipmapped by the renderer).
+// Both ways draw the same pixels for the same tiles (mipmapped by the renderer).
 #pragma once
 
 #include <cstdint>
@@ -34,6 +36,7 @@ namespace farfield {
 // tile_first[t + 1]) of `boxes_by_tile`, all of page page_of_tile[t] of `set`.
 struct BoxTiling {
   BoxSet tiles;
+  bool whole_pages = false;  // the tiles are the pages, each box where the bake put it
   std::vector<int> tile_px;
   std::vector<uint32_t> page_of_tile;
   std::vector<uint32_t> tile_first;
@@ -44,21 +47,24 @@ struct BoxTiling {
 };
 // Each page's boxes in their order into tiles of tile_px; a box too large for one (two 256^2
 // sides with their gutters do not sit side by side in 512) into a tile of twice that or more.
-BoxTiling tile_boxes(const BoxSet& set, int tile_px = 512);
+// tile_px of 0 or of the pages' size or more: the pages themselves.
+BoxTiling tile_boxes(const BoxSet& set, int tile_px);
 // Tile t's pixels (RGBA8, rows from the top) from the pixels of its page.
 std::vector<uint8_t> cut_tile(const BoxSet& set, const BoxTiling& tiling, uint32_t tile,
                               std::span<const uint8_t> page);
 
 class BoxAtlas {
  public:
-  // Every tile of `boxes` now (its pages' pixels are let go of, cut).
-  static Result<std::unique_ptr<BoxAtlas>> create(BoxSet& boxes, gpu::OwnedResources& resources);
+  // Every tile of `boxes` now, tiles of tile_px (tile_boxes; its pages' pixels are let go of).
+  static Result<std::unique_ptr<BoxAtlas>> create(BoxSet& boxes, gpu::OwnedResources& resources,
+                                                  int tile_px);
   // Tiles cut from the pages in the pack at `pack` (`boxes` loaded without pixels; it
   // outlives the atlas).
   static Result<std::unique_ptr<BoxAtlas>> create_streamed(const BoxSet& boxes,
                                                            gpu::OwnedResources& resources,
                                                            std::string pack,
-                                                           uint64_t upload_bytes_per_frame);
+                                                           uint64_t upload_bytes_per_frame,
+                                                           int tile_px);
   ~BoxAtlas();  // stops the loader
   BoxAtlas(const BoxAtlas&) = delete;
   BoxAtlas& operator=(const BoxAtlas&) = delete;
@@ -88,7 +94,7 @@ class BoxAtlas {
 
  private:
   struct Loader;
-  BoxAtlas(const BoxSet& boxes, gpu::OwnedResources& resources);
+  BoxAtlas(const BoxSet& boxes, gpu::OwnedResources& resources, int tile_px);
 
   BoxTiling tiling_;
   std::vector<MeshHandle> meshes_;       // per tile
