@@ -4,9 +4,9 @@
 // and the upload cost learnt from frames (upload_cost.hpp). Without GL.
 #include "farfield/techniques/clusters/box_atlas.hpp"
 
-#include <random>
-
 #include <gtest/gtest.h>
+
+#include <random>
 
 #include "farfield/techniques/clusters/upload_cost.hpp"
 
@@ -101,8 +101,7 @@ TEST(BoxTiling, ATileHoldsItsBoxesPixelsAsTheirPageAndTheMeshPointsAtThem) {
   const BoxTiling t = tile_boxes(s.set, 512);
   for (uint32_t tile = 0; tile < t.page_of_tile.size(); ++tile) {
     const int px = t.tile_px[tile];
-    const std::vector<uint8_t> pixels =
-        cut_tile(s.set, t, tile, s.set.pages[t.page_of_tile[tile]]);
+    const std::vector<uint8_t> pixels = cut_tile(s.set, t, tile, s.set.pages[t.page_of_tile[tile]]);
     ASSERT_EQ(pixels.size(), size_t(px) * size_t(px) * 4);
     uint64_t drawn = 0, coloured = 0;
     for (uint32_t b : t.boxes_of(tile))
@@ -149,6 +148,23 @@ TEST(BoxTiling, TilesOfThePagesSizeAreThePages) {
     }
     EXPECT_EQ(t.boxes_of(0).size() + t.boxes_of(1).size(), s.set.boxes.size());
   }
+}
+
+// A side as wide as its page fits it as the bake placed it, but no tile with its gutter.
+TEST(BoxTiling, ABoxThatFitsNoTileLeavesThePagesAsTheyAre) {
+  BoxSet set;
+  set.page_px = 64;
+  set.page_count = 1;
+  TexturedBox box;
+  box.bounds = {{0, 0, 0}, {1, 1, 1}};
+  box.sides[0] = {0, 0, 64, 10};
+  set.boxes = {box, box};
+  set.boxes[1].sides[0] = {0, 20, 8, 8};
+  const BoxTiling t = tile_boxes(set, 32);
+  EXPECT_TRUE(t.whole_pages);
+  EXPECT_EQ(t.page_of_tile.size(), 1u);
+  EXPECT_EQ(t.tiles.boxes[0].sides[0].w, 64);
+  EXPECT_EQ(t.tiles.boxes[1].sides[0].y, 20);
 }
 
 TEST(BoxTiling, NoBoxesNoTiles) {

@@ -295,12 +295,11 @@ TEST(ClusterStreamGL, ADamagedPageIsNamedWhileWalking) {
     ASSERT_TRUE(on_disk);
     auto renderer = gpu::Renderer::create(on_disk->index());
     ASSERT_TRUE(renderer);
-    auto walker = make_technique(
-        "clusters", test::settings_of({"clusters.wait=1", error_px}));
+    auto walker = make_technique("clusters", test::settings_of({"clusters.wait=1", error_px}));
     ASSERT_TRUE(walker);
     Progress silent(true);
-    ASSERT_TRUE((*walker)->load({on_disk->index(), &*store, **renderer, silent, &*on_disk,
-                                 uint64_t(64) << 20}));
+    ASSERT_TRUE((*walker)->load(
+        {on_disk->index(), &*store, **renderer, silent, &*on_disk, uint64_t(64) << 20}));
     std::mt19937 rng(3);
     for (int i = 0; i < 8 && (*walker)->failure().empty(); ++i)
       draw(**renderer, **walker, looking_down(rng, baked().city.bounds), uint64_t(i));

@@ -380,7 +380,9 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
   if (options.brute) names.push_back("brute");  // first: the reference of every other technique
   else if (std::find(options.techniques.begin(), options.techniques.end(), "brute") !=
            options.techniques.end())
-    return make_error("--no-brute leaves brute out: name the techniques to time with --technique, brute not among them");
+    return make_error(
+        "--no-brute leaves brute out: name the techniques to time with --technique, brute not "
+        "among them");
   for (const std::string& n : options.techniques)
     if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
   std::vector<std::string> techniques;

@@ -31,8 +31,8 @@ void fill(FrameTiming& t, const gpu::FrameStats& stats, const DrawList& list) {
 }  // namespace
 
 FrameBudget next_budget(double target_ms, const FrameTiming& last) {
-  return {target_ms, last.frame_ms, last.select_ms, last.triangles, last.draw_calls,
-          last.upload_ms};
+  return {target_ms,      last.frame_ms,   last.select_ms,
+          last.triangles, last.draw_calls, last.upload_ms};
 }
 
 FrameTiming FrameLoop::run(Technique& technique, const View& view, uint64_t frame,

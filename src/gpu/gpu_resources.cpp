@@ -186,8 +186,10 @@ Result<void> GpuResources::replace_scene_mesh(MeshHandle handle, std::span<const
       index_bytes <= slot.index_capacity && uv_bytes <= slot.uv_capacity &&
       (uvs.empty() == (slot.uv_buffer == 0))) {
     check_scene_mesh(vertices, uvs, indices);
-    if (vertex_bytes) glNamedBufferSubData(slot.vertex_buffer, 0, GLsizeiptr(vertex_bytes), vertices.data());
-    if (index_bytes) glNamedBufferSubData(slot.index_buffer, 0, GLsizeiptr(index_bytes), indices.data());
+    if (vertex_bytes)
+      glNamedBufferSubData(slot.vertex_buffer, 0, GLsizeiptr(vertex_bytes), vertices.data());
+    if (index_bytes)
+      glNamedBufferSubData(slot.index_buffer, 0, GLsizeiptr(index_bytes), indices.data());
     if (uv_bytes) glNamedBufferSubData(slot.uv_buffer, 0, GLsizeiptr(uv_bytes), uvs.data());
     slot.index_count = uint32_t(indices.size());
     return {};

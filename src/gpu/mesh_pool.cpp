@@ -1,9 +1,10 @@
 #include "farfield/gpu/mesh_pool.hpp"
 
-#include <algorithm>
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
+
+#include <algorithm>
 #include <condition_variable>
 #include <mutex>
 #include <thread>

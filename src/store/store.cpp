@@ -242,20 +242,11 @@ Result<uint64_t> Store::erase(std::string_view prefix) {
 Result<uint64_t> Store::compact() {
   const std::string what = "cannot compact";
   if (auto ok = state_->writable(what); !ok) return ok.error();
-  auto pragma = [&](const char* sql) -> Result<int64_t> {
-    sqlite3_stmt* statement = nullptr;
-    int rc = sqlite3_prepare_v2(state_->db, sql, -1, &statement, nullptr);
-    if (rc == SQLITE_OK) rc = sqlite3_step(statement);
-    const int64_t value = rc == SQLITE_ROW ? sqlite3_column_int64(statement, 0) : 0;
-    sqlite3_finalize(statement);
-    if (rc != SQLITE_ROW) return state_->error(rc, what);
-    return value;
-  };
-  auto free_pages = pragma("PRAGMA freelist_count");
+  auto free_pages = state_->query_int("PRAGMA freelist_count", what);
   if (!free_pages) return free_pages.error();
-  auto pages = pragma("PRAGMA page_count");
+  auto pages = state_->query_int("PRAGMA page_count", what);
   if (!pages) return pages.error();
-  auto page_size = pragma("PRAGMA page_size");
+  auto page_size = state_->query_int("PRAGMA page_size", what);
   if (!page_size) return page_size.error();
   if (*free_pages == 0 || *free_pages * 10 < *pages) return uint64_t(0);
   if (auto ok = state_->exec("VACUUM", what); !ok) return ok.error();

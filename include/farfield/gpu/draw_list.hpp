@@ -1,11 +1,11 @@
 // DrawList: what techniques selected for one frame, as plain data (DESIGN.md). Several
 // techniques may append to one list (composite): every entry names what it draws, scene
 // ranges by index range, technique meshes and textures by the handles the renderer gave out
-// (gpu/device.hpp). The renderer makes the `uploads`, `mesh_uploads` and `textured_mesh_uploads` first, then draws `opaque` scene ranges
-// (of the scene's buffers or of scene meshes: LODs, merged meshes, lit like the scene),
-// `meshes` (depth-tested, unlit, textured or not), the `backdrop`, `transparent` scene ranges
-// blended, and `lines` over the top, each in the order given. Capacity is kept between
-// frames: clear() does not free, but it does release the pixels the uploads held.
+// (gpu/device.hpp). The renderer makes the `uploads`, `mesh_uploads` and `textured_mesh_uploads`
+// first, then draws `opaque` scene ranges (of the scene's buffers or of scene meshes: LODs, merged
+// meshes, lit like the scene), `meshes` (depth-tested, unlit, textured or not), the `backdrop`,
+// `transparent` scene ranges blended, and `lines` over the top, each in the order given. Capacity
+// is kept between frames: clear() does not free, but it does release the pixels the uploads held.
 #pragma once
 
 #include <array>
@@ -233,7 +233,8 @@ struct DrawList {
       if (u.pixels) n += uint64_t(u.width) * uint64_t(u.height) * uint64_t(u.channels);
     for (const SceneMeshUpload& u : mesh_uploads) n += u.data->byte_size();
     for (const TexturedMeshUpload& u : textured_mesh_uploads)
-      n += u.data->vertices.size() * sizeof(TexturedVertex) + u.data->indices.size() * sizeof(uint32_t);
+      n += u.data->vertices.size() * sizeof(TexturedVertex) +
+           u.data->indices.size() * sizeof(uint32_t);
     return n;
   }
 };

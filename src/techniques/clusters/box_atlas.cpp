@@ -1,10 +1,11 @@
 #include "farfield/techniques/clusters/box_atlas.hpp"
 
-#include <algorithm>
-#include <array>
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <array>
 #include <condition_variable>
 #include <mutex>
 #include <optional>
@@ -33,35 +34,21 @@ std::vector<int> sides_tallest_first(const TexturedBox& box) {
 
 }  // namespace
 
-// Each page's boxes in order into tiles of tile_px; a box too large for one into tiles of
-// twice that and more, as needed (each box fitted its page).
 BoxTiling tile_boxes(const BoxSet& set, int tile_px) {
   BoxTiling t;
-  if (tile_px <= 0 || tile_px >= set.page_px) {
-    t.whole_pages = true;
-    t.tiles.page_px = set.page_px;
-    t.tiles.page_count = set.page_count;
-    t.tiles.boxes = set.boxes;
-    t.tiles.object_box = set.object_box;
-    t.tiles.node_box = set.node_box;
-    t.tile_px.assign(set.page_count, set.page_px);
-    std::vector<std::vector<uint32_t>> of_page(set.page_count);
-    for (uint32_t b = 0; b < set.boxes.size(); ++b) of_page[set.boxes[b].page].push_back(b);
-    for (uint32_t p = 0; p < set.page_count; ++p) {
-      t.page_of_tile.push_back(p);
-      t.tile_first.push_back(uint32_t(t.boxes_by_tile.size()));
-      t.boxes_by_tile.insert(t.boxes_by_tile.end(), of_page[p].begin(), of_page[p].end());
-    }
-    t.tile_first.push_back(uint32_t(t.boxes_by_tile.size()));
-    return t;
-  }
-  t.tiles.page_px = std::min(tile_px, set.page_px);
+  t.whole_pages = tile_px <= 0 || tile_px >= set.page_px;
+  t.tiles.page_px = t.whole_pages ? set.page_px : tile_px;
   t.tiles.boxes = set.boxes;
   t.tiles.object_box = set.object_box;
   t.tiles.node_box = set.node_box;
   std::vector<std::vector<uint32_t>> of_page(set.page_count), of_tile;
   for (uint32_t b = 0; b < set.boxes.size(); ++b) of_page[set.boxes[b].page].push_back(b);
-  for (uint32_t p = 0; p < set.page_count; ++p) {
+  if (t.whole_pages) {
+    for (uint32_t p = 0; p < set.page_count; ++p) t.page_of_tile.push_back(p);
+    t.tile_px.assign(set.page_count, set.page_px);
+    of_tile = std::move(of_page);
+  }
+  for (uint32_t p = 0; !t.whole_pages && p < set.page_count; ++p) {
     // The tile being filled of each size, smallest first.
     std::vector<int> open_px;
     std::vector<std::pair<ShelfPacker, uint32_t>> open;
@@ -97,7 +84,9 @@ BoxTiling tile_boxes(const BoxSet& set, int tile_px) {
         of_tile[tile].push_back(b);
         placed = true;
       }
-      FF_ASSERT(placed, "box %u fits no tile of its page %u", b, p);
+      // A box that fits no tile as they are packed (it fitted its page as the bake packed
+      // it): the pages themselves.
+      if (!placed) return tile_boxes(set, 0);
     }
   }
   for (const std::vector<uint32_t>& boxes : of_tile) {
@@ -185,8 +174,8 @@ struct BoxAtlas::Loader {
 
   CutTile cut(uint32_t tile) {
     const uint32_t wanted = tiling.page_of_tile[tile];
-    auto in_hand = std::find_if(pages.begin(), pages.end(),
-                                [&](const Page& p) { return p.page == wanted; });
+    auto in_hand =
+        std::find_if(pages.begin(), pages.end(), [&](const Page& p) { return p.page == wanted; });
     if (in_hand == pages.end()) {
       in_hand = std::min_element(pages.begin(), pages.end(),
                                  [](const Page& a, const Page& b) { return a.used < b.used; });
@@ -251,7 +240,7 @@ BoxAtlas::~BoxAtlas() {
 }
 
 Result<std::unique_ptr<BoxAtlas>> BoxAtlas::create(BoxSet& boxes, gpu::OwnedResources& resources,
-                                                  int tile_px) {
+                                                   int tile_px) {
   FF_ASSERT(boxes.pages.size() == boxes.page_count, "%zu box pages of %u", boxes.pages.size(),
             boxes.page_count);
   std::unique_ptr<BoxAtlas> a(new BoxAtlas(boxes, resources, tile_px));
@@ -364,8 +353,7 @@ bool BoxAtlas::end_frame(DrawList& out) {
       first_[of_tile[i]] = cut.first[i];
       count_[of_tile[i]] = cut.count[i];
     }
-    out.uploads.push_back(
-        {textures_[cut.tile], px, px, 4, cut.pixels->data(), cut.pixels, true});
+    out.uploads.push_back({textures_[cut.tile], px, px, 4, cut.pixels->data(), cut.pixels, true});
     out.textured_mesh_uploads.push_back({meshes_[cut.tile], std::move(cut.mesh)});
     drawable_[cut.tile] = 1;
     ++tiles_in_;
@@ -379,8 +367,7 @@ uint64_t BoxAtlas::ready_bytes() const {
   uint64_t bytes = 0;
   for (size_t n = 0; n < loader_->done.size(); ++n) {
     const uint64_t next = bytes + loader_->done[n].bytes();
-    if (n > 0 && !take_all_ && upload_bytes_per_frame_ > 0 && next > upload_bytes_per_frame_)
-      break;
+    if (n > 0 && !take_all_ && upload_bytes_per_frame_ > 0 && next > upload_bytes_per_frame_) break;
     bytes = next;
   }
   return bytes;

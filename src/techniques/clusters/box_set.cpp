@@ -393,7 +393,8 @@ Result<void> save_box_set(const BoxSet& set, Store& store) {
 Result<void> read_box_page(const Store& store, const BoxSet& set, uint32_t page,
                            std::vector<uint8_t>& pixels) {
   pixels.resize(size_t(set.page_px) * size_t(set.page_px) * 4);
-  return store.get_into(kPagePrefix + std::to_string(page), std::as_writable_bytes(std::span(pixels)));
+  return store.get_into(kPagePrefix + std::to_string(page),
+                        std::as_writable_bytes(std::span(pixels)));
 }
 
 Result<BoxSet> load_box_set(const Store& store, const Scene& scene, const ClusterTree& tree,

@@ -53,15 +53,9 @@ struct PageLoader {
 
 }  // namespace
 
-ClusterStream::ClusterStream(const ChunkedScene& scene, const LodSet& lods,
-                             const ClusterTree& tree, const BoxSet& boxes, BoxAtlas& atlas,
-                             gpu::Device& device)
-    : scene_(scene),
-      lods_(lods),
-      tree_(tree),
-      boxes_(boxes),
-      atlas_(atlas),
-      device_(device) {}
+ClusterStream::ClusterStream(const ChunkedScene& scene, const LodSet& lods, const ClusterTree& tree,
+                             const BoxSet& boxes, BoxAtlas& atlas, gpu::Device& device)
+    : scene_(scene), lods_(lods), tree_(tree), boxes_(boxes), atlas_(atlas), device_(device) {}
 
 ClusterStream::~ClusterStream() {
   pool_.reset();
@@ -71,8 +65,7 @@ ClusterStream::~ClusterStream() {
 Result<std::unique_ptr<ClusterStream>> ClusterStream::create(
     const ChunkedScene& scene, const Store& store, const LodSet& lods, const ClusterTree& tree,
     const BoxSet& boxes, BoxAtlas& atlas, gpu::Device& device, uint64_t budget_bytes) {
-  std::unique_ptr<ClusterStream> s(
-      new ClusterStream(scene, lods, tree, boxes, atlas, device));
+  std::unique_ptr<ClusterStream> s(new ClusterStream(scene, lods, tree, boxes, atlas, device));
   const size_t nodes = tree.nodes.size();
   s->parent_.assign(nodes, UINT32_MAX);
   s->object_node_.assign(scene.index().objects.size(), 0);

@@ -553,8 +553,8 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
       atlas_->set_upload_bytes_per_frame(cap);
     }
     const uint64_t foreseen = stream_ ? stream_->ready_bytes() + atlas_->ready_bytes() : 0;
-    const double target_ms = std::max(0.0, budget_target_.target_ms(input.budget.target_ms) -
-                                               upload_cost_.predict_ms(foreseen));
+    const double target_ms = std::max(
+        0.0, budget_target_.target_ms(input.budget.target_ms) - upload_cost_.predict_ms(foreseen));
     sv.max_triangles = 0.0;
     if (cost_.ready()) {
       sv.max_triangles = cost_.triangles_within(target_ms);
@@ -640,10 +640,10 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   const size_t box_draws = atlas_->add(boxes_chosen_, out);
   last_upload_bytes_ = out.upload_bytes();
   if (cost_.ready()) {
-    out.predicted_ms = cost_.predict_ms(double(stats.triangles),
-                                        double(out.opaque.size() + out.transparent.size() +
-                                               box_draws)) +
-                       upload_cost_.predict_ms(last_upload_bytes_);
+    out.predicted_ms =
+        cost_.predict_ms(double(stats.triangles),
+                         double(out.opaque.size() + out.transparent.size() + box_draws)) +
+        upload_cost_.predict_ms(last_upload_bytes_);
     last_predicted_ms_ = out.predicted_ms;
   }
 }
@@ -722,19 +722,18 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
           {"cost_ms_per_draw", cost_.ms_per_draw()}};
   if (stream_) {
     const gpu::MeshPoolCounters& c = stream_->counters();
-    figures.insert(figures.end(),
-                   {{"cache_hits", double(c.hits)},
-                    {"cache_misses", double(c.misses)},
-                    {"cache_prefetches", double(c.prefetches)},
-                    {"bytes_read", double(c.bytes_read)},
-                    {"cache_evictions", double(c.evictions)},
-                    {"cache_peak_mb", double(c.peak_resident_bytes) / 1e6},
-                    {"pinned_mb", double(stream_->pinned_bytes()) / 1e6},
-                    {"box_tiles", double(atlas_->tiles())},
-                    {"box_tiles_in", double(atlas_->tiles_in())},
-                    {"box_bytes_read", double(atlas_->bytes_read())},
-                    {"coarser_frames", double(coarser_frames_)},
-                    {"stood_in", double(stood_in_)}});
+    figures.insert(figures.end(), {{"cache_hits", double(c.hits)},
+                                   {"cache_misses", double(c.misses)},
+                                   {"cache_prefetches", double(c.prefetches)},
+                                   {"bytes_read", double(c.bytes_read)},
+                                   {"cache_evictions", double(c.evictions)},
+                                   {"cache_peak_mb", double(c.peak_resident_bytes) / 1e6},
+                                   {"pinned_mb", double(stream_->pinned_bytes()) / 1e6},
+                                   {"box_tiles", double(atlas_->tiles())},
+                                   {"box_tiles_in", double(atlas_->tiles_in())},
+                                   {"box_bytes_read", double(atlas_->bytes_read())},
+                                   {"coarser_frames", double(coarser_frames_)},
+                                   {"stood_in", double(stood_in_)}});
   }
   return figures;
 }

@@ -46,7 +46,7 @@ struct ClustersOptions {
   HysteresisRule hysteresis_rule = HysteresisRule::paper;
   bool wait = false;      // scene on disk: wait for the pages chosen (tests, references)
   int prefetch_frames = 15;  // scene on disk: ask for where the viewer will be; 0: not
-  int box_tile_px = 0;  // the boxes' tiles (box_atlas.hpp); 0: 512 on disk, the pages in memory
+  int box_tile_px = 0;    // the boxes' tiles (box_atlas.hpp); 0: 512 on disk, the pages in memory
   bool occlusion = true;  // cull with what the nearest opaque objects hide
   // Boxes inside them, their own triangles, or boxes under a budget and triangles without.
   enum class Occluders : uint8_t { automatic, boxes, meshes } occluders = Occluders::automatic;
@@ -75,12 +75,12 @@ class ClustersTechnique final : public Technique {
   LodSet lods_;
   ClusterTree tree_;
   size_t clusters_ = 0;  // nodes of tree_ with a cluster
-  BoxSet boxes_;  // without pixels: they are atlas_'s
+  BoxSet boxes_;         // without pixels: they are atlas_'s
   AccuracyTable accuracy_;
   float accuracy_px_ = 0.0f;            // texels across a subject at the tables' finest comparison
   std::unique_ptr<BoxAtlas> atlas_;
   std::vector<uint32_t> boxes_chosen_;
-  bool upload_frame_ = false;  // the last frame uploaded every page at once
+  bool upload_frame_ = false;        // the last frame uploaded every page at once
   double last_predicted_ms_ = -1.0;  // the last frame's; < 0: none
   BudgetTarget budget_target_;
   glm::vec3 last_eye_{0.0f};

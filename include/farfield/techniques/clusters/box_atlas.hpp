@@ -7,7 +7,7 @@
 // - given the pages' pixels (the scene in memory), every tile is made now and goes to the
 //   renderer with the first frame (by default the tiles are then the pages themselves: with
 //   everything resident, 512 tiles' 400 textures cost the 10M street at 33 ms a tenth of its
-//   triangles and a third more of its frames over 1.1x the budget, and a copy of the pixels);
+//   triangles and p99 1.23x the budget against 1.12x, and a copy of the pixels);
 // - left in the pack (the scene on disk, issue 16), a tile is cut on a background thread once
 //   a frame wants one of its boxes (the nearest first; the page read and decoded once for
 //   the tiles asked of it in a row), and taken in with at most `upload_bytes_per_frame` a
@@ -42,12 +42,13 @@ struct BoxTiling {
   std::vector<uint32_t> tile_first;
   std::vector<uint32_t> boxes_by_tile;
   std::span<const uint32_t> boxes_of(uint32_t tile) const {
-    return std::span(boxes_by_tile).subspan(tile_first[tile], tile_first[tile + 1] - tile_first[tile]);
+    return std::span(boxes_by_tile)
+        .subspan(tile_first[tile], tile_first[tile + 1] - tile_first[tile]);
   }
 };
 // Each page's boxes in their order into tiles of tile_px; a box too large for one (two 256^2
 // sides with their gutters do not sit side by side in 512) into a tile of twice that or more.
-// tile_px of 0 or of the pages' size or more: the pages themselves.
+// tile_px of 0 or of the pages' size or more, or a box that fits no tile: the pages themselves.
 BoxTiling tile_boxes(const BoxSet& set, int tile_px);
 // Tile t's pixels (RGBA8, rows from the top) from the pixels of its page.
 std::vector<uint8_t> cut_tile(const BoxSet& set, const BoxTiling& tiling, uint32_t tile,
@@ -103,9 +104,9 @@ class BoxAtlas {
   std::vector<uint8_t> drawable_;        // per tile
   std::vector<uint8_t> asked_;           // per tile: passed to the loader
   std::vector<std::pair<float, uint32_t>> wants_, prefetches_;  // this frame's, by tile
-  std::vector<TextureUpload> given_;     // the tiles given, until the first frame
-  std::unique_ptr<Loader> loader_;       // tiles left in the pack; else null
-  TextureHandle warm_up_;                // uploaded with the first frame (see end_frame)
+  std::vector<TextureUpload> given_;  // the tiles given, until the first frame
+  std::unique_ptr<Loader> loader_;    // tiles left in the pack; else null
+  TextureHandle warm_up_;             // uploaded with the first frame (see end_frame)
   uint64_t upload_bytes_per_frame_ = 0;
   bool take_all_ = false;
   uint32_t tiles_in_ = 0;

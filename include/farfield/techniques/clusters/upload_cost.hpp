@@ -17,7 +17,9 @@ class UploadCost {
     ms_ = kKeep * ms_ + ms;
   }
   // None before a frame that took something in was measured.
-  double predict_ms(uint64_t bytes) const { return bytes_ > 0.0 ? ms_ / bytes_ * double(bytes) : 0.0; }
+  double predict_ms(uint64_t bytes) const {
+    return bytes_ > 0.0 ? ms_ / bytes_ * double(bytes) : 0.0;
+  }
 
  private:
   static constexpr double kKeep = 0.9;
