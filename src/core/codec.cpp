@@ -35,21 +35,11 @@ Bytes zstd_compress(std::span<const std::byte> bytes, int level) {
   return out;
 }
 
-Result<Bytes> zstd_decompress(std::span<const std::byte> compressed, uint64_t raw_size) {
-  // The size a frame declares is checked before anything is allocated for it.
-  const unsigned long long declared =
-      ZSTD_getFrameContentSize(compressed.data(), compressed.size());
-  if (declared != ZSTD_CONTENTSIZE_ERROR && declared != ZSTD_CONTENTSIZE_UNKNOWN &&
-      declared != raw_size)
-    return make_error("zstd frame declares ", std::to_string(declared), " bytes, expected ",
-                      std::to_string(raw_size));
-  Bytes out(declared == raw_size ? raw_size : 0);
-  if (auto ok = zstd_decompress_into(compressed, out); !ok) return ok.error();
-  return out;
-}
+namespace {
 
-Result<void> zstd_decompress_into(std::span<const std::byte> compressed, std::span<std::byte> out) {
-  const uint64_t raw_size = out.size();
+// One frame that declares `raw_size` bytes and nothing after it (trailing bytes mean the blob
+// is not what was written): checked before anything is allocated for what it declares.
+Result<void> check_zstd_frame(std::span<const std::byte> compressed, uint64_t raw_size) {
   const unsigned long long declared =
       ZSTD_getFrameContentSize(compressed.data(), compressed.size());
   if (declared == ZSTD_CONTENTSIZE_ERROR) return make_error("not zstd data (bad frame header)");
@@ -58,18 +48,35 @@ Result<void> zstd_decompress_into(std::span<const std::byte> compressed, std::sp
   if (declared != raw_size)
     return make_error("zstd frame declares ", std::to_string(declared), " bytes, expected ",
                       std::to_string(raw_size));
-  // One frame and nothing after it: trailing bytes mean the blob is not what was written.
   const size_t frame = ZSTD_findFrameCompressedSize(compressed.data(), compressed.size());
   if (ZSTD_isError(frame)) return make_error("corrupted zstd data: ", ZSTD_getErrorName(frame));
   if (frame != compressed.size())
     return make_error("zstd data has ", std::to_string(compressed.size() - frame),
                       " bytes after its frame");
+  return {};
+}
+
+Result<void> decompress_checked(std::span<const std::byte> compressed, std::span<std::byte> out) {
   const size_t size = ZSTD_decompress(out.data(), out.size(), compressed.data(), compressed.size());
   if (ZSTD_isError(size)) return make_error("corrupted zstd data: ", ZSTD_getErrorName(size));
-  if (size != raw_size)
+  if (size != out.size())
     return make_error("zstd data holds ", std::to_string(size), " bytes, expected ",
-                      std::to_string(raw_size));
+                      std::to_string(out.size()));
   return {};
+}
+
+}  // namespace
+
+Result<Bytes> zstd_decompress(std::span<const std::byte> compressed, uint64_t raw_size) {
+  if (auto ok = check_zstd_frame(compressed, raw_size); !ok) return ok.error();
+  Bytes out(raw_size);
+  if (auto ok = decompress_checked(compressed, out); !ok) return ok.error();
+  return out;
+}
+
+Result<void> zstd_decompress_into(std::span<const std::byte> compressed, std::span<std::byte> out) {
+  if (auto ok = check_zstd_frame(compressed, out.size()); !ok) return ok;
+  return decompress_checked(compressed, out);
 }
 
 Result<Bytes> encode_jpeg(const Image& image, int quality) {
