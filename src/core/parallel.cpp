@@ -1,5 +1,9 @@
 #include "farfield/core/parallel.hpp"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -38,6 +42,10 @@ bool parallel_for(size_t count, int threads, Progress& progress, const std::stri
 void parallel_for(size_t count, int threads, Progress& progress, const std::string& task,
                   const std::function<void(size_t)>& work) {
   parallel_for(count, threads, progress, task, work, {});
+}
+
+void run_below_other_threads() {
+  setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), 10);
 }
 
 }  // namespace farfield

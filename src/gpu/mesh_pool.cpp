@@ -1,9 +1,5 @@
 #include "farfield/gpu/mesh_pool.hpp"
 
-#include <sys/resource.h>
-#include <sys/syscall.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <condition_variable>
 #include <mutex>
@@ -13,6 +9,7 @@
 #include <vector>
 
 #include "farfield/core/assert.hpp"
+#include "farfield/core/parallel.hpp"
 
 namespace farfield::gpu {
 
@@ -64,9 +61,7 @@ struct MeshPool::State {
   uint64_t read_ahead() const { return std::max<uint64_t>(options.budget_bytes / 16, 1); }
 
   void run() {
-    // Below the frame's threads (Linux: a thread's own nice value): on a machine whose cores
-    // the renderer fills (llvmpipe), reading and decoding pages must not lengthen frames.
-    setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), 10);
+    run_below_other_threads();  // reading and decoding pages must not lengthen frames
     std::unique_lock lock(mutex);
     for (;;) {
       wake.wait(lock, [&] { return stop || (!queue.empty() && done_bytes < read_ahead()); });
@@ -189,12 +184,8 @@ uint64_t MeshPool::end_frame(DrawList& out) {
   {
     std::lock_guard lock(s.mutex);
     // What was loaded, in the order it was, up to the frame's upload bytes.
-    const uint64_t cap = s.options.upload_bytes_per_frame;
     uint64_t taken = 0;
-    size_t n = 0;
-    while (n < s.done.size() &&
-           (n == 0 || s.take_all || cap == 0 || taken + s.done[n].bytes() <= cap))
-      taken += s.done[n++].bytes();
+    const size_t n = taken_in_a_frame(s.done, s.options.upload_bytes_per_frame, s.take_all, taken);
     done.assign(std::make_move_iterator(s.done.begin()),
                 std::make_move_iterator(s.done.begin() + std::ptrdiff_t(n)));
     s.done.erase(s.done.begin(), s.done.begin() + std::ptrdiff_t(n));
@@ -246,12 +237,8 @@ void MeshPool::set_upload_bytes_per_frame(uint64_t bytes) {
 uint64_t MeshPool::ready_bytes() const {
   State& s = *s_;
   std::lock_guard lock(s.mutex);
-  const uint64_t cap = s.options.upload_bytes_per_frame;
   uint64_t taken = 0;
-  for (size_t n = 0; n < s.done.size(); ++n) {
-    if (n > 0 && !s.take_all && cap != 0 && taken + s.done[n].bytes() > cap) break;
-    taken += s.done[n].bytes();
-  }
+  taken_in_a_frame(s.done, s.options.upload_bytes_per_frame, s.take_all, taken);
   return taken;
 }
 

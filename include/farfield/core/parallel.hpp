@@ -19,4 +19,8 @@ void parallel_for(size_t count, int threads, Progress& progress, const std::stri
 bool parallel_for(size_t count, int threads, Progress& progress, const std::string& task,
                   const std::function<void(size_t)>& work, const std::function<bool()>& poll);
 
+// Lowers the calling thread below the process's others (Linux: a thread's own nice value, 10):
+// a background loader on a machine whose cores the renderer fills (llvmpipe).
+void run_below_other_threads();
+
 }  // namespace farfield

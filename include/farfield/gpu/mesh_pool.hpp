@@ -23,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "farfield/core/result.hpp"
 #include "farfield/gpu/device.hpp"
@@ -38,6 +39,21 @@ struct MeshPoolOptions {
   // (on llvmpipe 64 MB taken in at once cost a 100M-city frame 50 ms more than predicted).
   uint64_t upload_bytes_per_frame = uint64_t(4) << 20;
 };
+
+// How many of `items` (loaded, in order; each with a bytes()) one frame takes in: up to `cap`
+// bytes and at least one; all where `take_all` or `cap` is 0. `bytes`: theirs. The rule of the
+// pool's end_frame, and of others that stream into a frame's uploads (the boxes' tiles).
+template <class Item>
+size_t taken_in_a_frame(const std::vector<Item>& items, uint64_t cap, bool take_all,
+                        uint64_t& bytes) {
+  bytes = 0;
+  size_t n = 0;
+  for (; n < items.size(); ++n) {
+    if (n > 0 && !take_all && cap != 0 && bytes + items[n].bytes() > cap) break;
+    bytes += items[n].bytes();
+  }
+  return n;
+}
 
 // Counters since the pool was made.
 struct MeshPoolCounters {

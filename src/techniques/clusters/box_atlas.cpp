@@ -1,9 +1,5 @@
 #include "farfield/techniques/clusters/box_atlas.hpp"
 
-#include <sys/resource.h>
-#include <sys/syscall.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <condition_variable>
@@ -12,7 +8,9 @@
 #include <thread>
 
 #include "farfield/core/assert.hpp"
+#include "farfield/core/parallel.hpp"
 #include "farfield/core/shelf_packer.hpp"
+#include "farfield/gpu/mesh_pool.hpp"
 #include "farfield/store/store.hpp"
 
 namespace farfield {
@@ -39,8 +37,6 @@ BoxTiling tile_boxes(const BoxSet& set, int tile_px) {
   t.whole_pages = tile_px <= 0 || tile_px >= set.page_px;
   t.tiles.page_px = t.whole_pages ? set.page_px : tile_px;
   t.tiles.boxes = set.boxes;
-  t.tiles.object_box = set.object_box;
-  t.tiles.node_box = set.node_box;
   std::vector<std::vector<uint32_t>> of_page(set.page_count), of_tile;
   for (uint32_t b = 0; b < set.boxes.size(); ++b) of_page[set.boxes[b].page].push_back(b);
   if (t.whole_pages) {
@@ -197,8 +193,7 @@ struct BoxAtlas::Loader {
   }
 
   void run() {
-    // Below the frame's threads, as the mesh pool's loader (gpu/mesh_pool.cpp).
-    setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), 10);
+    run_below_other_threads();  // reading and cutting must not lengthen frames
     std::unique_lock lock(mutex);
     for (;;) {
       wake.wait(lock, [&] { return stop || (!queue.empty() && done.size() < kReadAhead); });
@@ -329,12 +324,8 @@ bool BoxAtlas::end_frame(DrawList& out) {
     loader_->queue.insert(loader_->queue.end(), asks.begin(), asks.end());
     // What was cut, in order, up to the frame's bytes (at least one).
     uint64_t bytes = 0;
-    size_t n = 0;
-    for (; n < loader_->done.size(); ++n) {
-      bytes += loader_->done[n].bytes();
-      if (n > 0 && !take_all_ && upload_bytes_per_frame_ > 0 && bytes > upload_bytes_per_frame_)
-        break;
-    }
+    const size_t n =
+        gpu::taken_in_a_frame(loader_->done, upload_bytes_per_frame_, take_all_, bytes);
     taken.assign(std::make_move_iterator(loader_->done.begin()),
                  std::make_move_iterator(loader_->done.begin() + std::ptrdiff_t(n)));
     loader_->done.erase(loader_->done.begin(), loader_->done.begin() + std::ptrdiff_t(n));
@@ -365,11 +356,7 @@ uint64_t BoxAtlas::ready_bytes() const {
   if (!loader_) return 0;
   std::lock_guard lock(loader_->mutex);
   uint64_t bytes = 0;
-  for (size_t n = 0; n < loader_->done.size(); ++n) {
-    const uint64_t next = bytes + loader_->done[n].bytes();
-    if (n > 0 && !take_all_ && upload_bytes_per_frame_ > 0 && next > upload_bytes_per_frame_) break;
-    bytes = next;
-  }
+  gpu::taken_in_a_frame(loader_->done, upload_bytes_per_frame_, take_all_, bytes);
   return bytes;
 }
 

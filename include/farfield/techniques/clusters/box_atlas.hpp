@@ -30,10 +30,10 @@
 
 namespace farfield {
 
-// The boxes of `set` packed again into square tiles: `tiles` is `set` without pixels whose
-// pages are the tiles (boxes[b].page: b's tile, its sides placed there; page_px: the usual
-// tile's size); tile t is tile_px[t] texels square and holds boxes[tile_first[t],
-// tile_first[t + 1]) of `boxes_by_tile`, all of page page_of_tile[t] of `set`.
+// The boxes of `set` packed again into square tiles: `tiles` holds `set`'s boxes on pages that
+// are the tiles (boxes[b].page: b's tile, its sides placed there; page_px: the usual tile's
+// size; no pixels, no object or node index); tile t is tile_px[t] texels square and holds
+// boxes[tile_first[t], tile_first[t + 1]) of `boxes_by_tile`, all of page page_of_tile[t] of `set`.
 struct BoxTiling {
   BoxSet tiles;
   bool whole_pages = false;  // the tiles are the pages, each box where the bake put it
