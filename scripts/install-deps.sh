@@ -9,7 +9,7 @@ packages=(
   build-essential cmake pkg-config ninja-build
   libassimp-dev assimp-utils assimp-testmodels libstb-dev libmeshoptimizer-dev
   libcli11-dev libglm-dev libxxhash-dev nlohmann-json3-dev libpng-dev
-  libsqlite3-dev libzstd-dev libturbojpeg0-dev
+  libsqlite3-dev libzstd-dev libturbojpeg0-dev libmimalloc-dev
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev
   python3-matplotlib xvfb xauth
   libgtest-dev libgmock-dev libbenchmark-dev

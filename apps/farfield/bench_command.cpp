@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
+#include "large_pages.hpp"
 #include "farfield/scene/chunked_scene.hpp"
 #include "farfield/core/camera_path.hpp"
 #include "farfield/core/view.hpp"
@@ -93,6 +94,7 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_option("--out,-o", s->bench.out_dir, "Output folder")->required();
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
   commands.push_back({cmd, [s, technique_option] {
+                        use_large_pages();
                         // With --cache-mb the default is what streams.
                         if (s->bench.cache_mb > 0 && technique_option->count() == 0)
                           s->techniques = {"brute"};

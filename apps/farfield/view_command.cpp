@@ -14,6 +14,7 @@
 #include <backends/imgui_impl_opengl3.h>
 
 #include "commands.hpp"
+#include "large_pages.hpp"
 #include "farfield/core/image.hpp"
 #include "farfield/core/camera_path.hpp"
 #include "farfield/core/navigation.hpp"
@@ -491,6 +492,7 @@ void add_view_command(CLI::App& root, std::vector<Command>& commands) {
                   "picking); 0: read the scene whole")
       ->check(CLI::Range(uint64_t(0), uint64_t(1) << 20));
   commands.push_back({cmd, [s, technique] {
+                        use_large_pages();
                         ViewSettings settings = *s;
                         settings.technique_given = technique->count() > 0;
                         return run_viewer(settings);
