@@ -206,6 +206,7 @@ TEST(Clusters, FarFromItsMeshesNearObjectsWhole) {
   near.pose.position = centre + glm::vec3(0.0f, 0.0f, -1.0f);
   test::select_view(**clusters, near, list);
   EXPECT_LT(list.mesh_triangle_count(), list.triangle_count());
+  EXPECT_GT(test::figure(**clusters, "median_selection_ms"), 0.0);  // the traversal timed
   // No level's error is below a thousandth of a pixel from 400 m: everything whole.
   auto exact = make_technique("clusters", test::settings_of({"clusters.error_px=0.0001"}));
   ASSERT_TRUE(test::load_technique(**exact, scene, &device));

@@ -3,6 +3,7 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -479,6 +480,7 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
           scene, OccluderOptions{.per_frame = 128, .meshes = true}, occluder_boxes_);
   }
   frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = switches_ = boxes_drawn_ = 0;
+  selection_ms_.clear();
   coarser_frames_ = stood_in_ = 0;
   cost_ = {};
   upload_cost_ = {};
@@ -567,7 +569,11 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     }
     sv.triangles_per_draw = cost_.triangles_per_draw();
   }
+  const auto selection_start = std::chrono::steady_clock::now();
   const SelectionStats stats = selection_->select(sv, options_.traversal, choices_);
+  selection_ms_.push_back(std::chrono::duration<double, std::milli>(
+                              std::chrono::steady_clock::now() - selection_start)
+                              .count());
   visited_ += stats.nodes_visited;
   switches_ += stats.switches;
   if (ahead_selection_ && glm::length(sv.velocity) == 0.0f) ahead_choices_.clear();
@@ -703,6 +709,12 @@ std::string ClustersTechnique::describe() const {
 
 std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
   auto mean = [&](uint64_t sum) { return frames_ ? double(sum) / double(frames_) : 0.0; };
+  auto median = [](std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    const auto middle = values.begin() + std::ptrdiff_t(values.size() / 2);
+    std::nth_element(values.begin(), middle, values.end());
+    return *middle;
+  };
   std::vector<std::pair<std::string, double>> figures = {
           {"lods", double(lods_.lods.size())},
           {"lod_triangles", double(lods_.triangle_count())},
@@ -716,6 +728,7 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
           {"box_texels", double(boxes_.texels())},
           {"mean_boxes_drawn", mean(boxes_drawn_)},
           {"mean_visited", mean(visited_)},
+          {"median_selection_ms", median(selection_ms_)},
           {"switches", double(switches_)},
           {"cost_fixed_ms", cost_.fixed_ms()},
           {"cost_ms_per_triangle", cost_.ms_per_triangle()},

@@ -105,6 +105,7 @@ class ClustersTechnique final : public Technique {
   uint64_t last_upload_bytes_ = 0;  // the last frame's list's
   // figures()
   uint64_t frames_ = 0, clusters_drawn_ = 0, lods_drawn_ = 0, full_drawn_ = 0, visited_ = 0;
+  std::vector<double> selection_ms_;  // the hierarchy's traversal alone, each frame
   uint64_t boxes_drawn_ = 0;
   uint64_t switches_ = 0;
   uint64_t coarser_frames_ = 0, stood_in_ = 0;  // with the scene on disk
