@@ -174,7 +174,7 @@ constexpr SettingSpec kSettings[] = {
      .choices = "refined|paper"},
     {.key = "hysteresis",
      .type = SettingType::integer,
-     .default_value = "4",
+     .default_value = "8",
      .help = "under a budget, frames a cluster waits before it is refined into its children "
              "(paper 001, Sec. 4.6; which clusters wait: clusters.hysteresis_rule); 0: none",
      .unit = "frames",

@@ -42,7 +42,7 @@ struct ClustersOptions {
   BenefitWeights benefit;
   float error_px = 1.0f;  // the largest projected geometric error, pixels
   ClusterTraversal traversal = ClusterTraversal::refined;
-  int hysteresis = 4;  // frames (paper 001, Sec. 4.6)
+  int hysteresis = 8;  // frames (paper 001, Sec. 4.6)
   HysteresisRule hysteresis_rule = HysteresisRule::paper;
   bool wait = false;      // scene on disk: wait for the pages chosen (tests, references)
   int prefetch_frames = 15;  // scene on disk: ask for where the viewer will be; 0: not
