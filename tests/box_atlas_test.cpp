@@ -176,15 +176,35 @@ TEST(BoxTiling, NoBoxesNoTiles) {
 }
 
 TEST(UploadCost, LearnsTheTimeAByteFromFramesThatTookSomeIn) {
+  constexpr uint64_t MB = 1 << 20;
   UploadCost cost;
-  EXPECT_EQ(cost.predict_ms(1 << 20), 0.0) << "nothing measured: nothing foreseen";
-  cost.observe(0, 5.0);  // a frame that took nothing in teaches nothing
-  EXPECT_EQ(cost.predict_ms(1 << 20), 0.0);
-  for (int f = 0; f < 20; ++f) cost.observe(4 << 20, 14.4);  // 3.6 ms a MB
-  EXPECT_NEAR(cost.predict_ms(1 << 20), 3.6, 1e-9);
-  EXPECT_EQ(cost.predict_ms(0), 0.0);
-  for (int f = 0; f < 100; ++f) cost.observe(1 << 20, 0.36);  // the machine got faster
-  EXPECT_NEAR(cost.predict_ms(1 << 20), 0.36, 0.01);
+  EXPECT_EQ(cost.predict_ms({MB, 0}), 0.0) << "nothing measured: nothing foreseen";
+  cost.observe({}, 5.0);  // a frame that took nothing in teaches nothing
+  EXPECT_EQ(cost.predict_ms({MB, 0}), 0.0);
+  for (int f = 0; f < 20; ++f) cost.observe({4 * MB, 0}, 14.4);  // 3.6 ms a MB
+  EXPECT_NEAR(cost.predict_ms({MB, 0}), 3.6, 1e-9);
+  EXPECT_NEAR(cost.predict_ms({0, MB}), 3.6, 1e-9) << "no texture seen yet: the pooled rate";
+  EXPECT_EQ(cost.predict_ms({}), 0.0);
+  for (int f = 0; f < 100; ++f) cost.observe({MB, 0}, 0.36);  // the machine got faster
+  EXPECT_NEAR(cost.predict_ms({MB, 0}), 0.36, 0.01);
+}
+
+// Frames of meshes alone, of textures alone and of both: each kind at its own rate.
+TEST(UploadCost, TellsTexturesFromMeshes) {
+  constexpr uint64_t MB = 1 << 20;
+  UploadCost cost;
+  for (int f = 0; f < 30; ++f) {
+    const UploadBytes bytes{uint64_t(f % 3) * MB, uint64_t((f / 3) % 2) * 2 * MB};
+    cost.observe(bytes, 1.7 * double(bytes.meshes) / MB + 5.3 * double(bytes.textures) / MB);
+  }
+  EXPECT_NEAR(cost.ms_per_mesh_byte() * MB, 1.7, 1e-6);
+  EXPECT_NEAR(cost.ms_per_texture_byte() * MB, 5.3, 1e-6);
+  EXPECT_NEAR(cost.predict_ms({2 * MB, MB}), 2 * 1.7 + 5.3, 1e-6);
+  // Always in the same proportion the two cannot be told apart: the pooled rate for both.
+  UploadCost mixed;
+  for (int f = 0; f < 30; ++f) mixed.observe({MB, MB}, 7.0);
+  EXPECT_NEAR(mixed.ms_per_mesh_byte() * MB, 3.5, 1e-6);
+  EXPECT_NEAR(mixed.ms_per_texture_byte() * MB, 3.5, 1e-6);
 }
 
 }  // namespace

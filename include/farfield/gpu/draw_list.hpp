@@ -155,6 +155,13 @@ struct LineSegment {
   uint32_t color;  // RGBA8, R in the low byte
 };
 
+// What a list's uploads bring in, by kind (textures cost a frame more a byte than meshes:
+// their mipmaps).
+struct UploadBytes {
+  uint64_t meshes = 0, textures = 0;
+  uint64_t total() const { return meshes + textures; }
+};
+
 struct DrawList {
   std::vector<DrawRange> opaque;
   std::vector<DrawRange> transparent;
@@ -227,14 +234,14 @@ struct DrawList {
     return n;
   }
   // Bytes the uploads copy into GPU memory (those not yet made).
-  uint64_t upload_bytes() const {
-    uint64_t n = 0;
+  UploadBytes upload_bytes() const {
+    UploadBytes n;
     for (const TextureUpload& u : uploads)
-      if (u.pixels) n += uint64_t(u.width) * uint64_t(u.height) * uint64_t(u.channels);
-    for (const SceneMeshUpload& u : mesh_uploads) n += u.data->byte_size();
+      if (u.pixels) n.textures += uint64_t(u.width) * uint64_t(u.height) * uint64_t(u.channels);
+    for (const SceneMeshUpload& u : mesh_uploads) n.meshes += u.data->byte_size();
     for (const TexturedMeshUpload& u : textured_mesh_uploads)
-      n += u.data->vertices.size() * sizeof(TexturedVertex) +
-           u.data->indices.size() * sizeof(uint32_t);
+      n.meshes += u.data->vertices.size() * sizeof(TexturedVertex) +
+                  u.data->indices.size() * sizeof(uint32_t);
     return n;
   }
 };

@@ -484,7 +484,7 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   coarser_frames_ = stood_in_ = 0;
   cost_ = {};
   upload_cost_ = {};
-  last_upload_bytes_ = 0;
+  last_upload_bytes_ = {};
   return {};
 }
 
@@ -544,17 +544,22 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   upload_frame_ = false;
   last_predicted_ms_ = -1.0;
   if (input.budget.target_ms > 0.0) {
-    if (stream_ && upload_cost_.predict_ms(1 << 20) > 0.0) {
+    if (stream_ && upload_cost_.ms_per_mesh_byte() > 0.0) {
       // What the scene on disk takes in a frame: at most a quarter of the budget by the
-      // uploads' measured cost (half of it the pages' and chunks', half the boxes' tiles), at
-      // least a tile's worth (a 4 MB cap cost this VM's frames up to 15 ms of page faults).
-      const double bytes = kUploadShare * input.budget.target_ms /
-                           upload_cost_.predict_ms(1 << 20) * double(1 << 20) / 2.0;
-      const uint64_t cap = std::max<uint64_t>(uint64_t(bytes), uint64_t(1) << 20);
-      stream_->set_upload_bytes_per_frame(cap);
-      atlas_->set_upload_bytes_per_frame(cap);
+      // uploads' measured cost (half of it the pages' and chunks', half the boxes' tiles, each
+      // at its own cost a byte), at least a tile's worth (a 4 MB cap cost this VM's frames up
+      // to 15 ms of page faults).
+      const double ms = kUploadShare * input.budget.target_ms / 2.0;
+      auto cap = [&](double ms_per_byte) {
+        return std::max<uint64_t>(uint64_t(ms / ms_per_byte), uint64_t(1) << 20);
+      };
+      stream_->set_upload_bytes_per_frame(cap(upload_cost_.ms_per_mesh_byte()));
+      atlas_->set_upload_bytes_per_frame(cap(upload_cost_.ms_per_texture_byte()));
     }
-    const uint64_t foreseen = stream_ ? stream_->ready_bytes() + atlas_->ready_bytes() : 0;
+    // The tiles' bytes are mostly pixels: counted as textures.
+    const UploadBytes foreseen =
+        stream_ ? UploadBytes{stream_->ready_bytes(), atlas_->ready_bytes()}
+                : UploadBytes{};
     const double target_ms = std::max(
         0.0, budget_target_.target_ms(input.budget.target_ms) - upload_cost_.predict_ms(foreseen));
     sv.max_triangles = 0.0;

@@ -102,7 +102,7 @@ class ClustersTechnique final : public Technique {
   OcclusionMap occlusion_;
   FrameCostModel cost_;  // budget mode: fitted to measured frames, less their uploads
   UploadCost upload_cost_;
-  uint64_t last_upload_bytes_ = 0;  // the last frame's list's
+  UploadBytes last_upload_bytes_;  // the last frame's list's
   // figures()
   uint64_t frames_ = 0, clusters_drawn_ = 0, lods_drawn_ = 0, full_drawn_ = 0, visited_ = 0;
   std::vector<double> selection_ms_;  // the hierarchy's traversal alone, each frame
