@@ -9,10 +9,9 @@ namespace farfield::cli {
 void use_large_pages() {
 #if FARFIELD_HAS_MIMALLOC
   // mimalloc (linked in place of glibc's malloc, so Mesa's buffers and textures come from it
-  // too) asks the kernel for 2 MB pages from here on, and keeps what is freed for the next
-  // allocation instead of handing it back (a walk's memory is bounded by its cache anyway).
+  // too) asks the kernel for 2 MB pages from here on. What is freed still goes back (keeping
+  // it made the walk's peak 1.3-1.6 GB instead of 0.7-1.3 for a third of the faults).
   mi_option_enable(mi_option_large_os_pages);
-  mi_option_disable(mi_option_allow_decommit);
 #endif
 }
 
