@@ -558,8 +558,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     }
     // The tiles' bytes are mostly pixels: counted as textures.
     const UploadBytes foreseen =
-        stream_ ? UploadBytes{stream_->ready_bytes(), atlas_->ready_bytes()}
-                : UploadBytes{};
+        stream_ ? UploadBytes{stream_->ready_bytes(), atlas_->ready_bytes()} : UploadBytes{};
     const double target_ms = std::max(
         0.0, budget_target_.target_ms(input.budget.target_ms) - upload_cost_.predict_ms(foreseen));
     sv.max_triangles = 0.0;
@@ -576,9 +575,9 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   }
   const auto selection_start = std::chrono::steady_clock::now();
   const SelectionStats stats = selection_->select(sv, options_.traversal, choices_);
-  selection_ms_.push_back(std::chrono::duration<double, std::milli>(
-                              std::chrono::steady_clock::now() - selection_start)
-                              .count());
+  selection_ms_.push_back(
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - selection_start)
+          .count());
   visited_ += stats.nodes_visited;
   switches_ += stats.switches;
   if (ahead_selection_ && glm::length(sv.velocity) == 0.0f) ahead_choices_.clear();
