@@ -205,6 +205,11 @@ TEST(UploadCost, TellsTexturesFromMeshes) {
   for (int f = 0; f < 30; ++f) mixed.observe({MB, MB}, 7.0);
   EXPECT_NEAR(mixed.ms_per_mesh_byte() * MB, 3.5, 1e-6);
   EXPECT_NEAR(mixed.ms_per_texture_byte() * MB, 3.5, 1e-6);
+  // A fit that makes a kind free or cheaper than nothing (noise) is not believed either.
+  UploadCost odd;
+  for (int f = 0; f < 30; ++f) odd.observe(f % 2 ? UploadBytes{MB, MB} : UploadBytes{MB, 0}, f % 2 ? 1.0 : 2.0);
+  EXPECT_NEAR(odd.ms_per_texture_byte() * MB, odd.ms_per_mesh_byte() * MB, 1e-9);
+  EXPECT_GT(odd.ms_per_texture_byte(), 0.0);
 }
 
 }  // namespace

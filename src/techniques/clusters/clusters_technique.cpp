@@ -551,7 +551,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
       // to 15 ms of page faults).
       const double ms = kUploadShare * input.budget.target_ms / 2.0;
       auto cap = [&](double ms_per_byte) {
-        return std::max<uint64_t>(uint64_t(ms / ms_per_byte), uint64_t(1) << 20);
+        return uint64_t(std::clamp(ms / ms_per_byte, double(1 << 20), 1e15));
       };
       stream_->set_upload_bytes_per_frame(cap(upload_cost_.ms_per_mesh_byte()));
       atlas_->set_upload_bytes_per_frame(cap(upload_cost_.ms_per_texture_byte()));

@@ -24,7 +24,7 @@ UploadCost::Rates UploadCost::rates() const {
   // not all on one line: the determinant is a real share of mm * tt).
   if (!(det > 1e-3 * mm_ * tt_)) return {pooled, pooled};
   const double a = (my_ * tt_ - ty_ * mt_) / det, b = (ty_ * mm_ - my_ * mt_) / det;
-  if (a < 0.0 || b < 0.0) return {pooled, pooled};
+  if (!(a > 0.0 && b > 0.0)) return {pooled, pooled};
   return {a / double(1 << 20), b / double(1 << 20)};
 }
 
