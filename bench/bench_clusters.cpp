@@ -2,15 +2,28 @@
 // hierarchy the size of the 10M city's (25,600 objects on a 1.6 km grid, their levels and
 // clusters with errors proportional to their size), from street level, by error and under a
 // budget, with the default traversal and the paper's O(n) one (not part of the correctness
-// run; `make bench`).
+// run; `make bench`). With FARFIELD_BENCH_SCENE, FARFIELD_BENCH_PACK (a clusters bake of it)
+// and FARFIELD_BENCH_PATH set, also on that bake along that path, as the technique selects:
+// accuracy tables, textured boxes, the occluder boxes' map, hysteresis of 8 frames, a budget
+// of FARFIELD_BENCH_TRIANGLES (150,000 by default); `/cold` runs with the caches flushed
+// between frames, as drawing a frame flushes them in a walk.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "farfield/core/camera_path.hpp"
+#include "farfield/scene/scene_file.hpp"
+#include "farfield/spatial/occluders.hpp"
+#include "farfield/store/store.hpp"
 #include "farfield/techniques/clusters/cluster_selection.hpp"
+#include "farfield/techniques/clusters/occluder_boxes.hpp"
 
 namespace {
 
@@ -92,4 +105,98 @@ BENCHMARK(BM_ClustersSelect)
     ->Args({1, 1})
     ->Unit(benchmark::kMicrosecond);
 
+// A clusters bake read as the technique reads it, without its meshes and images.
+struct Baked {
+  Scene scene;
+  LodSet lods;
+  ClusterTree tree;
+  BoxSet boxes;
+  AccuracyTable accuracy;
+  std::vector<Bounds3> occluder_boxes;
+  CameraPath path;
+};
+
+template <typename T>
+T checked(Result<T> r) {
+  if (!r) {
+    std::fprintf(stderr, "bench_clusters: %s\n", r.error().message.c_str());
+    std::exit(1);
+  }
+  return std::move(*r);
+}
+
+const Baked& baked() {
+  static const std::unique_ptr<Baked> b = [] {
+    auto out = std::make_unique<Baked>();
+    out->scene = checked(read_scene(std::getenv("FARFIELD_BENCH_SCENE")));
+    const Store store = checked(Store::open(std::getenv("FARFIELD_BENCH_PACK"), Store::Mode::kRead));
+    out->lods = checked(load_lod_set(store, out->scene, GeometryLoad::index_only));
+    out->tree = checked(load_cluster_tree(store, out->scene, GeometryLoad::index_only));
+    out->boxes = checked(load_box_set(store, out->scene, out->tree, false));
+    out->accuracy = checked(load_accuracy_table(store, out->lods, out->tree, out->boxes));
+    out->occluder_boxes = checked(load_occluder_boxes(store, out->scene));
+    out->path = checked(read_camera_path(std::getenv("FARFIELD_BENCH_PATH")));
+    return out;
+  }();
+  return *b;
+}
+
+// Each iteration one frame of the path, in order (the selection's hysteresis sees a walk); the
+// occlusion map filled outside the timing.
+void select_baked(benchmark::State& state, ClusterTraversal traversal, bool cold) {
+  std::vector<uint8_t> flush(cold ? 64u << 20 : 0);
+  const Baked& b = baked();
+  ClusterSelection selection(b.scene, b.tree, b.lods, &b.boxes);
+  Occluders occluders(b.scene, OccluderOptions{}, b.occluder_boxes);
+  OcclusionMap occlusion;
+  const char* budget = std::getenv("FARFIELD_BENCH_TRIANGLES");
+  std::vector<Choice> choices;
+  SelectionStats stats;
+  uint64_t visited = 0;
+  size_t frame = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    View view;
+    view.pose = b.path.frames[frame++ % b.path.frames.size()];
+    const Frustum frustum(view);
+    occluders.fill(occlusion, view, frustum);
+    SelectionView sv;
+    sv.frustum = &frustum;
+    sv.eye = view.pose.position;
+    sv.pixel = 2.0f * std::tan(glm::radians(view.hfov_deg) * 0.5f) / float(view.width);
+    sv.max_triangles = budget ? std::atof(budget) : 150000.0;
+    sv.hysteresis = 8;
+    sv.occlusion = &occlusion;
+    sv.accuracy = b.accuracy.empty() ? nullptr : &b.accuracy;
+    for (size_t i = 0; i < flush.size(); i += 64) flush[i] += uint8_t(frame);
+    benchmark::DoNotOptimize(flush.data());
+    state.ResumeTiming();
+    stats = selection.select(sv, traversal, choices);
+    benchmark::DoNotOptimize(choices.data());
+    visited += stats.nodes_visited;
+  }
+  state.counters["visited"] = double(visited) / double(std::max<size_t>(frame, 1));
+
+}
+
 }  // namespace
+
+// The baked benchmark only where its data is named.
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (std::getenv("FARFIELD_BENCH_SCENE") && std::getenv("FARFIELD_BENCH_PACK") &&
+      std::getenv("FARFIELD_BENCH_PATH"))
+    for (const bool cold : {false, true})
+      for (const ClusterTraversal traversal : {ClusterTraversal::refined, ClusterTraversal::paper}) {
+        const std::string name = std::string("BM_ClustersSelectBaked/") +
+                                 (traversal == ClusterTraversal::paper ? "paper" : "refined") +
+                                 (cold ? "/cold" : "/warm");
+        auto* b = benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& state) {
+          select_baked(state, traversal, cold);
+        });
+        b->Unit(benchmark::kMicrosecond);
+        if (cold) b->Iterations(600);  // two walks of a 300-frame path
+      }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+}

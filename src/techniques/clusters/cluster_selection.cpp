@@ -42,15 +42,35 @@ ClusterSelection::ClusterSelection(const Scene& scene, const ClusterTree& tree, 
       last_state_(tree.nodes.size(), unseen),
       wanted_(tree.nodes.size(), 0),
       coarsened_at_(tree.nodes.size(), 0) {
-  object_diagonal_.reserve(scene.objects.size());
-  for (const Object& o : scene.objects) object_diagonal_.push_back(glm::length(o.bounds.size()));
-  node_diagonal_.reserve(tree.nodes.size());
-  for (const ClusterNode& n : tree.nodes) node_diagonal_.push_back(glm::length(n.bounds.size()));
-  node_semantics_.assign(tree.nodes.size(), 0.0f);
-  for (uint32_t n = 0; n < tree.nodes.size(); ++n)
-    for (uint32_t k = tree.nodes[n].objects_begin; k < tree.nodes[n].objects_end; ++k)
-      node_semantics_[n] =
-          std::max(node_semantics_[n], semantic_weight(scene.objects[tree.objects[k]].kind));
+  slots_.reserve(tree.objects.size());
+  for (const uint32_t object : tree.objects) {
+    const Object& o = scene.objects[object];
+    const bool has_lods = object + 1 < lods.first_lod.size();
+    ObjectSlot slot{o.bounds,
+                    object,
+                    has_lods ? lods.first_lod[object] : 0,
+                    has_lods ? lods.first_lod[object + 1] : 0,
+                    boxes_ ? boxes_->object_box[object] : BoxSet::kNone, o.index_count / 3,
+                    glm::length(o.bounds.size()), semantic_weight(o.kind), 0.0f, 0};
+    if (slot.box != BoxSet::kNone) {
+      slot.box_error_m = boxes_->boxes[slot.box].error_m;
+      slot.box_triangles = 2 * boxes_->boxes[slot.box].side_count();
+    }
+    slots_.push_back(slot);
+  }
+  node_slots_.reserve(tree.nodes.size());
+  for (uint32_t n = 0; n < tree.nodes.size(); ++n) {
+    const ClusterNode& node = tree.nodes[n];
+    NodeSlot slot{boxes_ ? boxes_->node_box[n] : BoxSet::kNone, glm::length(node.bounds.size()),
+                  0.0f, 0.0f, 0};
+    if (slot.box != BoxSet::kNone) {
+      slot.box_error_m = boxes_->boxes[slot.box].error_m;
+      slot.box_triangles = 2 * boxes_->boxes[slot.box].side_count();
+    }
+    for (uint32_t k = node.objects_begin; k < node.objects_end; ++k)
+      slot.semantics = std::max(slot.semantics, slots_[k].semantics);
+    node_slots_.push_back(slot);
+  }
 }
 
 // Paper 001, Sec. 3.1: a weighted average of the factors intrinsic to what is seen.
@@ -108,28 +128,25 @@ uint64_t ClusterSelection::count_switches() {
   return switches;
 }
 
-ClusterSelection::Seen ClusterSelection::see_node(uint32_t node) {
-  if (precomputed_) return node_seen_[node];
+ClusterSelection::Seen ClusterSelection::see(const Bounds3& box, bool in_frustum) {
   ++visited_;
-  const Bounds3& box = tree_.nodes[node].bounds;
   const std::optional<Bounds3>& near = view_->near_box;
-  const bool visible = view_->frustum->classify(box) != Visibility::none &&
-                       (!near || meet(box, *near)) &&
+  const Visibility v = in_frustum ? Visibility::full : view_->frustum->classify(box);
+  const bool visible = v != Visibility::none && (!near || meet(box, *near)) &&
                        !(view_->occlusion && view_->occlusion->hidden(box));
-  return {visible, !near || inside(box, *near), visible ? distance_to(box, view_->eye) : 0.0f,
-          visible ? direction_of(box) : 0u};
+  return {visible, !near || inside(box, *near), v == Visibility::full,
+          visible ? distance_to(box, view_->eye) : 0.0f, visible ? direction_of(box) : 0u};
 }
 
-ClusterSelection::Seen ClusterSelection::see_object(uint32_t object) {
-  if (precomputed_) return object_seen_[object];
-  ++visited_;
-  const Bounds3& box = scene_.objects[object].bounds;
-  const std::optional<Bounds3>& near = view_->near_box;
-  const bool visible = view_->frustum->classify(box) != Visibility::none &&
-                       (!near || meet(box, *near)) &&
-                       !(view_->occlusion && view_->occlusion->hidden(box));
-  return {visible, true, visible ? distance_to(box, view_->eye) : 0.0f,
-          visible ? direction_of(box) : 0u};
+ClusterSelection::Seen ClusterSelection::see_node(uint32_t node, bool in_frustum) {
+  return precomputed_ ? node_seen_[node] : see(tree_.nodes[node].bounds, in_frustum);
+}
+
+ClusterSelection::Seen ClusterSelection::see_object(uint32_t slot, bool in_frustum) {
+  if (precomputed_) return object_seen_[slots_[slot].object];
+  Seen seen = see(slots_[slot].bounds, in_frustum);
+  seen.clusterable = true;
+  return seen;
 }
 
 uint32_t ClusterSelection::direction_of(const Bounds3& box) const {
@@ -143,7 +160,10 @@ void ClusterSelection::classify_all() {
   node_seen_.resize(tree_.nodes.size());
   object_seen_.resize(scene_.objects.size());
   for (uint32_t n = 0; n < node_seen_.size(); ++n) node_seen_[n] = see_node(n);
-  for (uint32_t o = 0; o < object_seen_.size(); ++o) object_seen_[o] = see_object(o);
+  for (uint32_t o = 0; o < object_seen_.size(); ++o) {
+    object_seen_[o] = see(scene_.objects[o].bounds, false);
+    object_seen_[o].clusterable = true;
+  }
   precomputed_ = true;
 }
 
@@ -151,10 +171,9 @@ float ClusterSelection::projected(float error_m, float distance) const {
   return error_m / (std::max(distance, 1e-3f) * view_->pixel);
 }
 
-uint64_t ClusterSelection::object_triangles(uint32_t object, uint32_t level) const {
-  if (level == kBox) return box_triangles(object_box(object));
-  return level == kWhole ? scene_.objects[object].index_count / 3
-                         : lods_.lods[level].index_count / 3;
+uint64_t ClusterSelection::object_triangles(uint32_t slot, uint32_t level) const {
+  if (level == kBox) return slots_[slot].box_triangles;
+  return level == kWhole ? slots_[slot].whole_triangles : lods_.lods[level].index_count / 3;
 }
 
 float ClusterSelection::resolved(float image_m, float geometric_m, float diagonal_m) const {
@@ -162,23 +181,23 @@ float ClusterSelection::resolved(float image_m, float geometric_m, float diagona
   return finest > 0.0f && image_m * finest < diagonal_m ? geometric_m : image_m;
 }
 
-float ClusterSelection::object_error(uint32_t object, uint32_t level, uint32_t direction) const {
+float ClusterSelection::object_error(uint32_t slot, uint32_t level, uint32_t direction) const {
   const AccuracyTable* a = view_->accuracy;
   if (level == kWhole) return 0.0f;
-  const float geometric =
-      level == kBox ? boxes_->boxes[object_box(object)].error_m : lods_.lods[level].error_m;
+  const ObjectSlot& s = slots_[slot];
+  const float geometric = level == kBox ? s.box_error_m : lods_.lods[level].error_m;
   if (!a) return geometric;
-  return resolved(level == kBox ? a->box(object_box(object), direction) : a->lod(level, direction),
-                  geometric, object_diagonal_[object]);
+  return resolved(level == kBox ? a->box(s.box, direction) : a->lod(level, direction), geometric,
+                  s.diagonal);
 }
 
 float ClusterSelection::node_error(uint32_t node, uint32_t level, uint32_t direction) const {
   const AccuracyTable* a = view_->accuracy;
-  const float geometric =
-      level == kBox ? boxes_->boxes[node_box(node)].error_m : tree_.nodes[node].error_m;
+  const NodeSlot& s = node_slots_[node];
+  const float geometric = level == kBox ? s.box_error_m : tree_.nodes[node].error_m;
   if (!a) return geometric;
-  return resolved(level == kBox ? a->box(node_box(node), direction) : a->node(node, direction),
-                  geometric, node_diagonal_[node]);
+  return resolved(level == kBox ? a->box(s.box, direction) : a->node(node, direction), geometric,
+                  s.diagonal);
 }
 
 SelectionStats ClusterSelection::select(const SelectionView& view, ClusterTraversal traversal,
@@ -206,12 +225,12 @@ void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats)
   auto take = [&](float error_px) {
     stats.largest_error_px = std::max(stats.largest_error_px, error_px);
   };
-  stack_.assign(1, 0);
+  stack_.assign(1, {0, false});
   while (!stack_.empty()) {
-    const uint32_t n = stack_.back();
+    const auto [n, parent_in_frustum] = stack_.back();
     stack_.pop_back();
     const ClusterNode& node = tree_.nodes[n];
-    const Seen seen = see_node(n);
+    const Seen seen = see_node(n, parent_in_frustum);
     if (!seen.visible) continue;
     if (node.clustered() && seen.clusterable) {
       const uint32_t box = node_box(n);
@@ -221,7 +240,7 @@ void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats)
       if (box_px <= view_->error_px) {
         set_state(n, as_cluster);
         out.push_back({Choice::Kind::box, box});
-        stats.triangles += box_triangles(box);
+        stats.triangles += node_slots_[n].box_triangles;
         take(box_px);
         continue;
       }
@@ -236,72 +255,76 @@ void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats)
     }
     if (node.clustered()) set_state(n, refined);
     for (uint32_t k = node.objects_begin; k < node.own_end; ++k) {
-      const uint32_t object = tree_.objects[k];
-      const Seen o = see_object(object);
+      const Seen o = see_object(k, seen.in_frustum);
       if (!o.visible) continue;
+      const ObjectSlot& slot = slots_[k];
       uint32_t level = kWhole;
-      const uint32_t box = object_box(object);
-      if (box != BoxSet::kNone && object_error(object, kBox, o.direction) <= allowed * o.distance)
+      if (slot.box != BoxSet::kNone && object_error(k, kBox, o.direction) <= allowed * o.distance)
         level = kBox;
       else
-        for (uint32_t l = lods_.first_lod[object]; l < lods_.first_lod[object + 1]; ++l) {
-          if (object_error(object, l, o.direction) > allowed * o.distance) break;
+        for (uint32_t l = slot.first_lod; l < slot.lod_end; ++l) {
+          if (object_error(k, l, o.direction) > allowed * o.distance) break;
           level = l;
         }
-      out.push_back(level == kBox     ? Choice{Choice::Kind::box, box}
-                    : level == kWhole ? Choice{Choice::Kind::whole, object}
+      out.push_back(level == kBox     ? Choice{Choice::Kind::box, slot.box}
+                    : level == kWhole ? Choice{Choice::Kind::whole, slot.object}
                                       : Choice{Choice::Kind::lod, level});
-      stats.triangles += object_triangles(object, level);
-      take(projected(object_error(object, level, o.direction), o.distance));
+      stats.triangles += object_triangles(k, level);
+      take(projected(object_error(k, level, o.direction), o.distance));
     }
-    for (uint32_t c = node.child_count; c-- > 0;) stack_.push_back(node.first_child + c);
+    for (uint32_t c = node.child_count; c-- > 0;)
+      stack_.push_back({node.first_child + c, seen.in_frustum});
   }
 }
 
 // The coarsest complete representation of what the frustum sees of a node: its cluster (where
 // `use_cluster` and it has one), else its visible objects at their coarsest levels and its
 // children likewise; returns its cost (triangles, each draw counted as triangles_per_draw).
-double ClusterSelection::open(uint32_t first, bool use_cluster, std::vector<Item>& into) {
+double ClusterSelection::open(uint32_t first, const Seen* first_seen, bool use_cluster,
+                              std::vector<Item>& into, double limit) {
   const double per_draw = view_->triangles_per_draw;
   double total = 0;
   const size_t base = stack_.size();  // stack_ is this call's alone above `base`
-  stack_.push_back(first);
+  stack_.push_back({first, false});
   while (stack_.size() > base) {
-    const uint32_t n = stack_.back();
+    const auto [n, parent_in_frustum] = stack_.back();
     stack_.pop_back();
     const ClusterNode& node = tree_.nodes[n];
-    const Seen seen = see_node(n);
+    const Seen seen = n == first && first_seen ? *first_seen : see_node(n, parent_in_frustum);
     if (!seen.visible) continue;
     if ((use_cluster || n != first) && node.clustered() && seen.clusterable) {
       const uint32_t box = node_box(n);
-      const uint64_t triangles = box != BoxSet::kNone ? box_triangles(box) : node.triangles;
+      const uint64_t triangles = box != BoxSet::kNone ? node_slots_[n].box_triangles : node.triangles;
       const double cost = box != BoxSet::kNone
                               ? double(triangles)
                               : triangles + per_draw * double(node.parts_end - node.parts_begin);
       into.push_back({n, kNone, box != BoxSet::kNone ? kBox : 0, seen.direction, seen.distance,
-                      benefit_of(node.bounds, seen.distance, node_semantics_[n]), triangles, cost,
-                      true});
+                      benefit_of(node.bounds, seen.distance, node_slots_[n].semantics), triangles,
+                      cost, true, seen.in_frustum});
       total += cost;
+      if (total > limit) break;
       continue;
     }
     for (uint32_t k = node.objects_begin; k < node.own_end; ++k) {
-      const uint32_t object = tree_.objects[k];
-      const Seen o = see_object(object);
+      const Seen o = see_object(k, seen.in_frustum);
       if (!o.visible) continue;
-      const uint32_t begin = lods_.first_lod[object], end = lods_.first_lod[object + 1];
-      const uint32_t level = object_box(object) != BoxSet::kNone ? kBox
-                             : end > begin                       ? end - 1
-                                                                 : kWhole;
-      const uint64_t triangles = object_triangles(object, level);
-      const Object& obj = scene_.objects[object];
+      const ObjectSlot& slot = slots_[k];
+      const uint32_t level = slot.box != BoxSet::kNone   ? kBox
+                             : slot.lod_end > slot.first_lod ? slot.lod_end - 1
+                                                             : kWhole;
+      const uint64_t triangles = object_triangles(k, level);
       const double cost = double(triangles) + (level == kBox ? 0.0 : per_draw);
-      into.push_back({n, object, level, o.direction, o.distance,
-                      benefit_of(obj.bounds, o.distance, semantic_weight(obj.kind)), triangles,
-                      cost, true});
+      into.push_back({n, k, level, o.direction, o.distance,
+                      benefit_of(slot.bounds, o.distance, slot.semantics), triangles, cost, true,
+                      o.in_frustum});
       total += cost;
+      if (total > limit) break;
     }
-    for (uint32_t c = node.child_count; c-- > 0;) stack_.push_back(node.first_child + c);
+    if (total > limit) break;
+    for (uint32_t c = node.child_count; c-- > 0;)
+      stack_.push_back({node.first_child + c, seen.in_frustum});
   }
+  stack_.resize(base);
   return total;
 }
 
@@ -311,26 +334,26 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
   heap_.clear();
   stack_.clear();
   auto error_px = [&](const Item& item) {
-    return projected(item.object != kNone ? object_error(item.object, item.level, item.direction)
+    return projected(item.slot != kNone ? object_error(item.slot, item.level, item.direction)
                                           : node_error(item.node, item.level, item.direction),
                      item.distance);
   };
   // Paper 001, Sec. 4.5.2: the most beneficial refined first (the benefit 1 without weights).
   auto key = [&](const Item& item) { return error_px(item) * item.benefit; };
-  auto refinable = [&](const Item& item) { return item.object == kNone || item.level != kWhole; };
+  auto refinable = [&](const Item& item) { return item.slot == kNone || item.level != kWhole; };
   auto push = [&](uint32_t id) {
     if (!refinable(items_[id])) return;
     heap_.push_back({key(items_[id]), id});
     std::push_heap(heap_.begin(), heap_.end());
   };
-  double cost = open(0, true, items_);
+  double cost = open(0, nullptr, true, items_);
   for (uint32_t id = 0; id < items_.size(); ++id) push(id);
   while (!heap_.empty()) {
     std::pop_heap(heap_.begin(), heap_.end());
     const uint32_t id = heap_.back().second;
     heap_.pop_back();
     Item& item = items_[id];
-    if (item.object == kNone) {
+    if (item.slot == kNone) {
       const ClusterNode& node = tree_.nodes[item.node];
       // A box into its cluster mesh where that is finer; no hysteresis: the node stays drawn
       // as a cluster.
@@ -348,7 +371,12 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
         continue;
       }
       opened_.clear();
-      const double more = open(item.node, false, opened_) - item.cost;
+      // An item's node was seen visible and clusterable this frame: not seen again. Opening
+      // stops once what it found cannot fit (costs are never negative).
+      const Seen seen{true, true, item.in_frustum, item.distance, item.direction};
+      const double limit =
+          item.distance > 0.0f ? std::max(budget - cost, 0.0) + item.cost : INFINITY;
+      const double more = open(item.node, &seen, false, opened_, limit) - item.cost;
       // A refinement that does not fit is skipped (a cheaper one may still fit); one that
       // costs nothing is always taken, and so is a cluster the eye is inside, whose coarse
       // mesh would wrap the view (a frame of 7 dB on the 10M city's street where it was not).
@@ -379,18 +407,19 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
       }
       continue;
     }
-    const uint32_t begin = lods_.first_lod[item.object];
+    const ObjectSlot& slot = slots_[item.slot];
+    const uint32_t begin = slot.first_lod;
     uint32_t finer = kWhole;
     if (item.level == kBox) {  // the coarsest level finer than the box, else the whole
-      const float box = object_error(item.object, kBox, item.direction);
-      for (uint32_t l = lods_.first_lod[item.object + 1]; l-- > begin;)
-        if (object_error(item.object, l, item.direction) < box) {
+      const float box = object_error(item.slot, kBox, item.direction);
+      for (uint32_t l = slot.lod_end; l-- > begin;)
+        if (object_error(item.slot, l, item.direction) < box) {
           finer = l;
           break;
         }
     } else if (item.level != begin)
       finer = item.level - 1;
-    const uint64_t triangles = object_triangles(item.object, finer);
+    const uint64_t triangles = object_triangles(item.slot, finer);
     // A level is a draw of its own; a box was not (SelectionView::triangles_per_draw).
     const double more = double(triangles) - double(item.triangles) +
                         (item.level == kBox ? view_->triangles_per_draw : 0.0);
@@ -403,14 +432,14 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
   }
   for (const Item& item : items_) {
     if (!item.live) continue;
-    if (item.object == kNone) {
+    if (item.slot == kNone) {
       if (state_[item.node] != held) set_state(item.node, as_cluster);
       out.push_back(item.level == kBox ? Choice{Choice::Kind::box, node_box(item.node)}
                                        : Choice{Choice::Kind::cluster, item.node});
     } else if (item.level == kBox)
-      out.push_back({Choice::Kind::box, object_box(item.object)});
+      out.push_back({Choice::Kind::box, slots_[item.slot].box});
     else if (item.level == kWhole)
-      out.push_back({Choice::Kind::whole, item.object});
+      out.push_back({Choice::Kind::whole, slots_[item.slot].object});
     else
       out.push_back({Choice::Kind::lod, item.level});
     stats.triangles += item.triangles;

@@ -113,54 +113,83 @@ class ClusterSelection {
  private:
   static constexpr uint32_t kWhole = UINT32_MAX;
   static constexpr uint32_t kBox = UINT32_MAX - 1;
-  // A representation in the budget's front: a node (object == kNone) as its cluster (level
+  // A representation in the budget's front: a node (slot == kNone) as its cluster (level
   // 0) or its box (kBox), or an object at a level (into LodSet::lods, kBox, or kWhole).
   static constexpr uint32_t kNone = UINT32_MAX;
   struct Item {
-    uint32_t node, object, level;
+    uint32_t node, slot, level;  // slot: the object's, into slots_
     uint32_t direction;  // of the accuracy tables, towards the eye
     float distance;
     float benefit;  // SelectionView::benefit's average, 1 without weights
     uint64_t triangles;
     double cost;  // triangles and draws (SelectionView::triangles_per_draw)
     bool live;
+    bool in_frustum;  // a node's bounds wholly inside the frustum
   };
   struct Seen {
     bool visible;
     bool clusterable;  // a cluster may stand for it (within the near region, if any)
+    bool in_frustum;   // wholly inside the frustum: so is all it holds
     float distance;
     uint32_t direction;  // of the accuracy tables, towards the eye (0 without them)
   };
-  Seen see_node(uint32_t node);
-  Seen see_object(uint32_t object);
+  // `in_frustum`: its parent's bounds lie wholly inside the frustum (no plane to test).
+  Seen see(const Bounds3& box, bool in_frustum);
+  Seen see_node(uint32_t node, bool in_frustum = false);
+  Seen see_object(uint32_t slot, bool in_frustum = false);
+  // A node to visit, and whether its parent lies wholly inside the frustum.
+  struct Pending {
+    uint32_t node;
+    bool in_frustum;
+  };
   void classify_all();
   float projected(float error_m, float distance) const;
-  uint64_t object_triangles(uint32_t object, uint32_t level) const;
+  uint64_t object_triangles(uint32_t slot, uint32_t level) const;
   // Errors, metres: an object's at a level (0 for kWhole), a node's cluster mesh (level 0)
   // or box (kBox), seen from an accuracy-table direction.
-  float object_error(uint32_t object, uint32_t level, uint32_t direction) const;
+  float object_error(uint32_t slot, uint32_t level, uint32_t direction) const;
   float node_error(uint32_t node, uint32_t level, uint32_t direction) const;
   uint32_t direction_of(const Bounds3& box) const;
   // The table's error, or the geometric one where the table's is below its finest texel for
   // a subject of diagonal `diagonal_m` (SelectionView::accuracy_finest_px).
   float resolved(float image_m, float geometric_m, float diagonal_m) const;
   float benefit_of(const Bounds3& box, float distance, float semantics) const;
-  uint32_t object_box(uint32_t object) const {
-    return boxes_ ? boxes_->object_box[object] : BoxSet::kNone;
-  }
-  uint32_t node_box(uint32_t node) const { return boxes_ ? boxes_->node_box[node] : BoxSet::kNone; }
-  uint64_t box_triangles(uint32_t box) const { return 2 * boxes_->boxes[box].side_count(); }
+  uint32_t node_box(uint32_t node) const { return node_slots_[node].box; }
   void by_error(std::vector<Choice>& out, SelectionStats& stats);
   void under_budget(std::vector<Choice>& out, SelectionStats& stats);
-  // The coarsest complete representation of a node's visible content, appended to `into`.
-  double open(uint32_t node, bool use_cluster, std::vector<Item>& into);
+  // The coarsest complete representation of a node's visible content, appended to `into`;
+  // `seen`: how the node was seen this frame, if it was (an item's node: not seen again).
+  // Stops, returning what it found so far, once that costs more than `limit`.
+  double open(uint32_t node, const Seen* seen, bool use_cluster, std::vector<Item>& into,
+              double limit = INFINITY);
 
   const Scene& scene_;
   const ClusterTree& tree_;
   const LodSet& lods_;
   const BoxSet* boxes_;
-  std::vector<float> node_semantics_;  // the largest semantic weight of a node's objects
-  std::vector<float> object_diagonal_, node_diagonal_;  // of their bounds, metres
+  // What selection reads of an object, in the hierarchy's order (ClusterTree::objects), so
+  // that a node's objects lie together in memory: a frame's visits, after drawing has
+  // flushed the caches, read a few cache lines each instead of one an array.
+  struct ObjectSlot {
+    Bounds3 bounds;
+    uint32_t object;
+    uint32_t first_lod, lod_end;  // into LodSet::lods
+    uint32_t box;                 // into BoxSet::boxes, or BoxSet::kNone
+    uint32_t whole_triangles;
+    float diagonal;   // of its bounds, metres
+    float semantics;  // semantic_weight of its kind
+    float box_error_m;
+    uint32_t box_triangles;
+  };
+  struct NodeSlot {
+    uint32_t box;
+    float diagonal;
+    float semantics;  // the largest semantic weight of its objects
+    float box_error_m;
+    uint32_t box_triangles;
+  };
+  std::vector<ObjectSlot> slots_;
+  std::vector<NodeSlot> node_slots_;
   // A node's part in a frame, for temporal coherence.
   enum State : uint8_t { unseen = 0, as_cluster, held, refined };
   void set_state(uint32_t node, State state);
@@ -172,7 +201,7 @@ class ClusterSelection {
   std::vector<Seen> node_seen_, object_seen_;  // the paper traversal's first pass
   std::vector<Item> items_, opened_;
   std::vector<std::pair<float, uint32_t>> heap_;  // projected error, item
-  std::vector<uint32_t> stack_;
+  std::vector<Pending> stack_;
   std::vector<uint8_t> state_, last_state_;       // State per node, this frame and the last
   std::vector<uint32_t> touched_, last_touched_;  // nodes whose state_ is set
   std::vector<uint16_t> wanted_;                  // frames in a row a refinement was held
