@@ -62,10 +62,19 @@ constexpr SettingSpec kSettings[] = {
     {.key = "difference_quality",
      .type = SettingType::integer,
      .default_value = "75",
-     .help = "JPEG quality of the stored differences (the paper's is ibr.quality, 80, for every "
-             "level; 75 costs nothing measurable and keeps the pyramid within 1.2x the level-0 "
-             "images alone: docs/techniques/ibr.md)",
+     .help = "JPEG quality of the stored differences, the highest under ibr.max_storage (the "
+             "paper's is ibr.quality, 80, for every level; 75 costs nothing measurable: "
+             "docs/techniques/ibr.md)",
      .min = 1,
+     .max = 100,
+     .baked = true},
+    {.key = "max_storage",
+     .type = SettingType::number,
+     .default_value = "1.18",
+     .help = "a viewpoint's stored levels take at most this many times its level-0 image as "
+             "JPEG alone (the paper's Table 1: 0.99 to 1.18): its differences at the highest "
+             "quality, from ibr.difference_quality down to 40, that fits; 0: no limit",
+     .min = 0,
      .max = 100,
      .baked = true},
     {.key = "pyramid",
@@ -122,11 +131,40 @@ Result<ViewSphere> sphere_for(const Scene& scene, const IbrOptions& o, float& fo
   return o.sphere.sphere_for(scene);
 }
 
+// max_storage is a 13th field since it came (a pack with 12 was baked without a limit).
 std::string params_text(const ViewSphere& s, float fov_deg, const IbrOptions& o) {
-  return formatted("%d %d %.9g %.9g %.9g %.9g %.9g %d %d %d %d %s", s.longitudes, s.latitudes,
-                   s.centre.x, s.centre.y, s.centre.z, s.radius, fov_deg, o.resolution,
-                   o.levels, o.quality, o.difference_quality,
-                   o.rule == PyramidRule::min ? "min" : "mean");
+  return formatted("%d %d %.9g %.9g %.9g %.9g %.9g %d %d %d %d %s %.9g", s.longitudes, s.latitudes,
+                   s.centre.x, s.centre.y, s.centre.z, s.radius, fov_deg, o.resolution, o.levels,
+                   o.quality, o.difference_quality, o.rule == PyramidRule::min ? "min" : "mean",
+                   o.max_storage);
+}
+
+// One viewpoint's stored levels (paper 003, Sec. 2.2, Steps 1-5): the coarsest at `quality`,
+// each finer one as its difference, at `difference_quality`, from the level above as the
+// viewer will have it (decoded), so that JPEG's errors do not add up level to level.
+Result<std::vector<Bytes>> stored_levels(const std::vector<Image>& levels, const Bytes& coarsest,
+                                         int difference_quality, PyramidRule rule) {
+  std::vector<Bytes> stored(levels.size());
+  stored.back() = coarsest;
+  auto decoded = decode_jpeg(coarsest);
+  if (!decoded) return make_error("ibr: ", decoded.error().message);
+  for (size_t l = levels.size() - 1; l-- > 0;) {
+    const Image up = magnified(*decoded, rule);
+    auto d = encode_jpeg(difference(levels[l], up, rule), difference_quality);
+    if (!d) return make_error("ibr: ", d.error().message);
+    stored[l] = std::move(*d);
+    if (l == 0) break;
+    auto back = decode_jpeg(stored[l]);
+    if (!back) return make_error("ibr: ", back.error().message);
+    *decoded = accumulated(up, *back, rule);
+  }
+  return stored;
+}
+
+uint64_t total_bytes(const std::vector<Bytes>& stored) {
+  uint64_t total = 0;
+  for (const Bytes& b : stored) total += b.size();
+  return total;
 }
 
 }  // namespace
@@ -165,6 +203,7 @@ const TechniqueDescriptor ibr_descriptor{
       o.levels = v.integer("levels");
       o.quality = v.integer("quality");
       o.difference_quality = v.integer("difference_quality");
+      o.max_storage = v.number("max_storage");
       o.rule = v.text("pyramid") == "min" ? PyramidRule::min : PyramidRule::mean;
       o.level = v.text("level") == "auto" ? -1 : std::atoi(v.text("level").c_str());
       o.blend = v.text("blend") == "bilinear";
@@ -232,33 +271,44 @@ Result<void> IbrTechnique::bake(const BakeContext& context) {
     view.pose = sphere_.pose(id);
     renderer.draw(view, list);
     const std::vector<Image> levels = pyramid(renderer.capture(), options_.levels, options_.rule);
-    const int coarsest = options_.levels - 1;
-    std::vector<Bytes> stored(options_.levels);
     std::vector<uint64_t> full(options_.levels);
-    Image decoded;  // the level above as the viewer will have it
-    for (int l = coarsest; l >= 0; --l) {
+    Bytes coarsest;
+    for (int l = options_.levels - 1; l >= 0; --l) {
       auto alone = encode_jpeg(levels[l], options_.quality);
       if (!alone) return make_error("ibr: ", alone.error().message);
       full[l] = alone->size();
-      if (l == coarsest) {
-        stored[l] = std::move(*alone);
-      } else {
-        const Image up = magnified(decoded, options_.rule);
-        auto d = encode_jpeg(difference(levels[l], up, options_.rule),
-                             options_.difference_quality);
-        if (!d) return make_error("ibr: ", d.error().message);
-        stored[l] = std::move(*d);
+      if (l == options_.levels - 1) coarsest = std::move(*alone);
+    }
+    auto stored = stored_levels(levels, coarsest, options_.difference_quality, options_.rule);
+    if (!stored) return stored.error();
+    if (const double limit = options_.max_storage * double(full[0]);
+        options_.max_storage > 0 && double(total_bytes(*stored)) > limit) {
+      // The highest quality that fits, by bisection (bytes grow with the quality): `stored`
+      // is always the attempt at `hi`, the lowest where none fits.
+      int lo = kLowestDifferenceQuality, hi = options_.difference_quality;
+      bool fits = false;
+      while (lo < hi) {
+        const int mid = (lo + hi + 1) / 2;
+        auto trial = stored_levels(levels, coarsest, mid, options_.rule);
+        if (!trial) return trial.error();
+        if (double(total_bytes(*trial)) <= limit) {
+          lo = mid;
+          stored = std::move(trial);
+          fits = true;
+        } else {
+          hi = mid - 1;
+        }
       }
-      if (l == 0) break;
-      auto back = decode_jpeg(stored[l]);
-      if (!back) return make_error("ibr: ", back.error().message);
-      decoded = l == coarsest ? std::move(*back)
-                              : accumulated(magnified(decoded, options_.rule), *back, options_.rule);
+      if (!fits) {
+        auto lowest = stored_levels(levels, coarsest, lo, options_.rule);
+        if (!lowest) return lowest.error();
+        stored = std::move(lowest);
+      }
     }
     auto transaction = store.begin();
     if (!transaction) return transaction.error();
     for (int l = 0; l < options_.levels; ++l)
-      if (auto ok = store.put(level_blob(id, l), stored[l], Codec::kNone); !ok) return ok;
+      if (auto ok = store.put(level_blob(id, l), (*stored)[l], Codec::kNone); !ok) return ok;
     if (auto ok = store.put(kBlobs.name(id, "full"), bytes_of(full), Codec::kNone); !ok) return ok;
     if (auto ok = transaction->commit(); !ok) return ok;
     context.progress.advance();
@@ -281,14 +331,16 @@ Result<void> IbrTechnique::load(const LoadContext& context) {
   auto params = kBlobs.params(store);
   if (!params) return params.error();
   char rule[8] = {};
-  if (std::sscanf(params->c_str(), "%d %d %f %f %f %f %f %d %d %d %d %7s",
-                  &sphere_.longitudes, &sphere_.latitudes, &sphere_.centre.x, &sphere_.centre.y,
-                  &sphere_.centre.z, &sphere_.radius, &fov_deg_, &options_.resolution,
-                  &options_.levels, &options_.quality, &options_.difference_quality,
-                  rule) != 12 ||
-      sphere_.longitudes < 1 || sphere_.latitudes < 1 || !(sphere_.radius > 0) ||
-      !(fov_deg_ > 0 && fov_deg_ < 180) || options_.levels < 1 || options_.levels > 8 ||
-      options_.resolution < 1 || options_.resolution % (1 << (options_.levels - 1)) != 0)
+  options_.max_storage = 0.0;
+  const int fields =
+      std::sscanf(params->c_str(), "%d %d %f %f %f %f %f %d %d %d %d %7s %lf", &sphere_.longitudes,
+                  &sphere_.latitudes, &sphere_.centre.x, &sphere_.centre.y, &sphere_.centre.z,
+                  &sphere_.radius, &fov_deg_, &options_.resolution, &options_.levels,
+                  &options_.quality, &options_.difference_quality, rule, &options_.max_storage);
+  if ((fields != 12 && fields != 13) || sphere_.longitudes < 1 || sphere_.latitudes < 1 ||
+      !(sphere_.radius > 0) || !(fov_deg_ > 0 && fov_deg_ < 180) || options_.levels < 1 ||
+      options_.levels > 8 || options_.resolution < 1 ||
+      options_.resolution % (1 << (options_.levels - 1)) != 0)
     return make_error(store.path(), ": its ibr bake has no readable parameters; re-bake it");
   options_.rule = std::string(rule) == "min" ? PyramidRule::min : PyramidRule::mean;
   if (auto complete = kBlobs.check_complete(store, sphere_.count()); !complete)

@@ -32,13 +32,19 @@ struct IbrOptions {
   int resolution = 512;   // W
   int levels = 3;
   int quality = 80;     // JPEG, of the coarsest level and of each level alone (Table 1)
-  int difference_quality = 75;  // JPEG, of the differences
+  int difference_quality = 75;  // JPEG, of the differences (the highest, under max_storage)
+  // > 0: a viewpoint's stored levels take at most this many times its level-0 image as JPEG
+  // alone: its differences at the highest quality, from difference_quality down to
+  // kLowestDifferenceQuality, that fits. 0: every difference at difference_quality.
+  double max_storage = 1.18;
   PyramidRule rule = PyramidRule::mean;
   int level = -1;       // the finest level drawn; -1: by the viewer's speed
   bool blend = true;    // the four viewpoints around the eye blended; false: the nearest
   float fast_deg = 0;   // speed (degrees of the sphere a frame) from which the coarsest level
                         // is drawn; 0: one step of longitude
 };
+
+inline constexpr int kLowestDifferenceQuality = 40;
 
 // What the pack's views take, by level (paper 003, Table 1): the stored coarsest image and
 // differences, and each level's full image as it would be stored on its own.
