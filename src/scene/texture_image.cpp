@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "farfield/core/codec.hpp"
+#include "farfield/core/text.hpp"
 
 // stb_image for the formats libpng and libturbojpeg do not read; its size limit is set before
 // it allocates, and its PNG and JPEG decoders are left out (those go through the libraries
@@ -33,6 +34,8 @@ namespace farfield {
 namespace {
 
 constexpr uint64_t kMaxTexels = uint64_t(kMaxTextureSide) * kMaxTextureSide;
+// Beyond a megatexel, an image file holding more texels a byte than this is refused unread.
+constexpr uint64_t kMaxTexelsPerByte = 4096;
 
 bool starts_with(std::span<const std::byte> bytes, std::initializer_list<uint8_t> magic) {
   if (bytes.size() < magic.size()) return false;
@@ -74,6 +77,13 @@ Result<RgbaImage> decode(std::span<const std::byte> bytes) {
   if (bytes.size() > size_t(INT32_MAX)) return make_error("image file over 2 GB");
   int w = 0, h = 0, channels = 0;
   const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+  // A header is checked before a decode allocates what it claims: a few damaged bytes of TGA
+  // claimed 16384 x 16384 texels, which stb_image then filled for 14 s and 1.1 GB. The
+  // run-length codings of these formats give at most a few hundred texels a byte.
+  if (stbi_info_from_memory(data, int(bytes.size()), &w, &h, &channels) &&
+      uint64_t(w) * uint64_t(h) > kMaxTexelsPerByte * bytes.size() + (1u << 20))
+    return make_error(
+        formatted("claims %d x %d texels in %zu bytes: damaged or truncated", w, h, bytes.size()));
   std::unique_ptr<stbi_uc, void (*)(void*)> texels(
       stbi_load_from_memory(data, int(bytes.size()), &w, &h, &channels, 4), stbi_image_free);
   if (!texels)
