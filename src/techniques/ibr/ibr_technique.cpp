@@ -139,24 +139,25 @@ std::string params_text(const ViewSphere& s, float fov_deg, const IbrOptions& o)
                    o.max_storage);
 }
 
-// One viewpoint's stored levels (paper 003, Sec. 2.2, Steps 1-5): the coarsest at `quality`,
-// each finer one as its difference, at `difference_quality`, from the level above as the
-// viewer will have it (decoded), so that JPEG's errors do not add up level to level.
+// One viewpoint's stored levels (paper 003, Sec. 2.2, Steps 1-5): the coarsest as given (its
+// JPEG bytes and their decoding), each finer one as its difference, at `difference_quality`,
+// from the level above as the viewer will have it (decoded), so that JPEG's errors do not add
+// up level to level.
 Result<std::vector<Bytes>> stored_levels(const std::vector<Image>& levels, const Bytes& coarsest,
-                                         int difference_quality, PyramidRule rule) {
+                                         const Image& coarsest_decoded, int difference_quality,
+                                         PyramidRule rule) {
   std::vector<Bytes> stored(levels.size());
   stored.back() = coarsest;
-  auto decoded = decode_jpeg(coarsest);
-  if (!decoded) return make_error("ibr: ", decoded.error().message);
+  Image decoded = coarsest_decoded;
   for (size_t l = levels.size() - 1; l-- > 0;) {
-    const Image up = magnified(*decoded, rule);
+    const Image up = magnified(decoded, rule);
     auto d = encode_jpeg(difference(levels[l], up, rule), difference_quality);
     if (!d) return make_error("ibr: ", d.error().message);
     stored[l] = std::move(*d);
     if (l == 0) break;
     auto back = decode_jpeg(stored[l]);
     if (!back) return make_error("ibr: ", back.error().message);
-    *decoded = accumulated(up, *back, rule);
+    decoded = accumulated(up, *back, rule);
   }
   return stored;
 }
@@ -279,31 +280,33 @@ Result<void> IbrTechnique::bake(const BakeContext& context) {
       full[l] = alone->size();
       if (l == options_.levels - 1) coarsest = std::move(*alone);
     }
-    auto stored = stored_levels(levels, coarsest, options_.difference_quality, options_.rule);
+    auto coarsest_decoded = decode_jpeg(coarsest);
+    if (!coarsest_decoded) return make_error("ibr: ", coarsest_decoded.error().message);
+    auto at_quality = [&](int quality) {
+      return stored_levels(levels, coarsest, *coarsest_decoded, quality, options_.rule);
+    };
+    int quality = options_.difference_quality;
+    auto stored = at_quality(quality);
     if (!stored) return stored.error();
     if (const double limit = options_.max_storage * double(full[0]);
         options_.max_storage > 0 && double(total_bytes(*stored)) > limit) {
-      // The highest quality that fits, by bisection (bytes grow with the quality): `stored`
-      // is always the attempt at `hi`, the lowest where none fits.
-      int lo = kLowestDifferenceQuality, hi = options_.difference_quality;
-      bool fits = false;
+      // The highest quality that fits, by bisection (bytes grow with the quality); the lowest
+      // where none does. `stored` is the attempt at `quality`.
+      int lo = std::min(kLowestDifferenceQuality, quality), hi = quality - 1;
       while (lo < hi) {
         const int mid = (lo + hi + 1) / 2;
-        auto trial = stored_levels(levels, coarsest, mid, options_.rule);
+        auto trial = at_quality(mid);
         if (!trial) return trial.error();
         if (double(total_bytes(*trial)) <= limit) {
           lo = mid;
+          quality = mid;
           stored = std::move(trial);
-          fits = true;
         } else {
           hi = mid - 1;
         }
       }
-      if (!fits) {
-        auto lowest = stored_levels(levels, coarsest, lo, options_.rule);
-        if (!lowest) return lowest.error();
-        stored = std::move(lowest);
-      }
+      if (quality != lo) stored = at_quality(lo);
+      if (!stored) return stored.error();
     }
     auto transaction = store.begin();
     if (!transaction) return transaction.error();
