@@ -16,6 +16,7 @@
 #include "farfield/scene/city_generator.hpp"
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
+#include "farfield/techniques/clusters/average_boxes.hpp"
 #include "test_util.hpp"
 
 namespace farfield {
@@ -173,6 +174,44 @@ TEST(BoxSetGL, TheBoxLooksLikeItsObject) {
     }
   EXPECT_LT(reference_sky, uint64_t(view.width * view.height) * 95 / 100);
   EXPECT_NEAR(double(sky), double(reference_sky), 0.02 * view.width * view.height);
+}
+
+// The cube's average-colour box from afar: its sides are wholly covered and evenly lit, so
+// that it looks like the cube as the textured box does.
+TEST(BoxSetGL, TheAverageBoxLooksLikeItsObjectToo) {
+  Bench b = baked_shapes();
+  if (!b.ok()) GTEST_SKIP() << b.skip;
+  const Scene& scene = b.scene;
+  const uint32_t box = b.boxes.object_box[0];
+  const AverageBox average =
+      average_box(b.boxes.boxes[box], b.boxes.pages[b.boxes.boxes[box].page], b.boxes.page_px);
+  for (const AverageSide& side : average.sides) EXPECT_EQ(side.coverage, 255);
+  View view;
+  view.width = 160;
+  view.height = 120;
+  view.hfov_deg = 30.0f;
+  view.pose.position = {-3.0f, 3.0f, -6.0f};  // looking at the cube's centre
+  view.pose.yaw_deg = 58.4f;
+  view.pose.pitch_deg = -18.1f;
+  TexturedMesh mesh;
+  append_average_box(b.boxes.boxes[box], average, view.pose.position, mesh);
+  EXPECT_EQ(mesh.indices.size(), 18u);  // three sides face the eye
+  auto handle = b.renderer->create_textured_mesh(mesh.vertices, mesh.indices);
+  ASSERT_TRUE(handle);
+  const TextureHandle white = b.renderer->create_texture();
+  static constexpr uint8_t kWhite[4] = {255, 255, 255, 255};
+  b.renderer->set_offscreen(view.width, view.height);
+  DrawList list;
+  list.opaque.push_back(
+      {scene.objects[0].first_index, scene.objects[0].index_count, scene.objects[0].material, {}});
+  b.renderer->draw(view, list);
+  const Image reference = b.renderer->capture();
+  list.clear();
+  list.uploads.push_back({white, 1, 1, 4, kWhite, nullptr});
+  list.meshes.push_back({*handle, 0, uint32_t(mesh.indices.size()), white});
+  b.renderer->draw(view, list);
+  const ImageComparison c = compare_images(reference, b.renderer->capture());
+  EXPECT_GT(c.psnr_db, 25.0) << c.differing_pixels << " pixels differ";
 }
 
 // A small city's boxes on small pages: every side inside its page, no two sides (with their

@@ -314,7 +314,8 @@ int expect_complete(const std::vector<Choice>& choices, const Frustum& frustum,
   }
   for (const Choice& c : choices) {
     uint32_t node = c.kind == Choice::Kind::cluster ? c.index : UINT32_MAX;
-    if (c.kind == Choice::Kind::box) {
+    const bool box = c.kind == Choice::Kind::box || c.kind == Choice::Kind::average;
+    if (box) {
       EXPECT_TRUE(boxes) << "a box chosen where there are none";
       if (!boxes) continue;
       node = box_node[c.index];
@@ -326,7 +327,7 @@ int expect_complete(const std::vector<Choice>& choices, const Frustum& frustum,
       continue;
     }
     const uint32_t o = c.kind == Choice::Kind::whole ? c.index
-                       : c.kind == Choice::Kind::box ? box_object[c.index]
+                       : box                         ? box_object[c.index]
                                                      : b.lods.lods[c.index].object;
     EXPECT_FALSE(hidden(scene.objects[o].bounds)) << "object " << o;
     ++drawn[o];
@@ -482,6 +483,56 @@ TEST(ClusterSelection, BoxesStandForTheirNodesAndObjects) {
       }
     }
   }
+}
+
+// Average-colour boxes take the place of the boxes whose subjects project below average_px
+// (by error, below error_px too, so that the error stays within it); nothing else changes:
+// the same triangles, still complete. average_px 0, or a selection told there are none: none.
+TEST(ClusterSelection, AverageBoxesStandForBoxesOfFewPixels) {
+  const Scene& scene = small_city();
+  const Baked& b = baked();
+  const BoxSet boxes = synthetic_boxes(scene, b.tree);
+  ClusterSelection with(scene, b.tree, b.lods, &boxes, true), plain(scene, b.tree, b.lods, &boxes);
+  const View view = corner_view(300.0f);
+  const Frustum frustum(view);
+  const float pixel = pixel_of(view);
+  auto across_px = [&](uint32_t box) {
+    const Bounds3& bounds = boxes.boxes[box].bounds;
+    return glm::length(bounds.size()) /
+           (std::max(distance_to(bounds, view.pose.position), 1e-3f) * pixel);
+  };
+  int64_t most = 0;
+  for (double budget : {-1.0, 3e2, 5e3}) {
+    for (float average_px : {0.0f, 8.0f, 1e4f}) {
+      SCOPED_TRACE(testing::Message() << budget << " triangles, " << average_px << " px");
+      SelectionView sv{&frustum, view.pose.position, pixel, std::nullopt, 64.0f, budget};
+      sv.average_px = average_px;
+      std::vector<Choice> a, p;
+      const SelectionStats s = with.select(sv, ClusterTraversal::refined, a);
+      const SelectionStats ps = plain.select(sv, ClusterTraversal::refined, p);
+      expect_complete(a, frustum, nullptr, &boxes);
+      EXPECT_EQ(s.triangles, ps.triangles);
+      ASSERT_EQ(a.size(), p.size());
+      const float limit = budget < 0 ? std::min(average_px, 64.0f) : average_px;
+      int64_t averages = 0;
+      for (size_t i = 0; i < a.size(); ++i) {
+        EXPECT_NE(p[i].kind, Choice::Kind::average);
+        if (p[i].kind != Choice::Kind::box) {
+          EXPECT_EQ(a[i].kind, p[i].kind);
+          continue;
+        }
+        EXPECT_EQ(a[i].index, p[i].index);
+        const bool small = across_px(p[i].index) <= limit;
+        EXPECT_EQ(a[i].kind, small ? Choice::Kind::average : Choice::Kind::box) << i;
+        averages += small;
+      }
+      if (budget < 0) {
+        EXPECT_LE(s.largest_error_px, 64.0f);
+      }
+      most = std::max(most, averages);
+    }
+  }
+  EXPECT_GT(most, 10);
 }
 
 // With accuracy tables, a representation's error is the one of the direction it is seen

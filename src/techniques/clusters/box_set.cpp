@@ -150,6 +150,12 @@ glm::mat4 side_view_projection(const Bounds3& box, int side, float margin, float
 
 }  // namespace
 
+BoxSideFrame box_side_frame(const Bounds3& box, int side) {
+  const SideFrame f = side_frame(side);
+  const SideExtent e = side_extent(box, side);
+  return {box.center() + f.normal * (0.5f * e.depth), f.right * e.half_width, f.up * e.half_height};
+}
+
 uint32_t TexturedBox::side_count() const {
   uint32_t n = 0;
   for (const BoxSide& s : sides) n += s.w > 0;
@@ -339,10 +345,7 @@ TexturedMesh box_mesh(const BoxSet& set, std::span<const uint32_t> boxes,
     for (int side = 0; side < 6; ++side) {
       const BoxSide& s = box.sides[side];
       if (s.w == 0) continue;
-      const SideFrame f = side_frame(side);
-      const SideExtent e = side_extent(box.bounds, side);
-      const glm::vec3 c = box.bounds.center() + f.normal * (0.5f * e.depth);
-      const glm::vec3 r = f.right * e.half_width, u = f.up * e.half_height;
+      const auto [c, r, u] = box_side_frame(box.bounds, side);
       const float u0 = float(s.x) * texel, v0 = float(s.y) * texel;
       const float u1 = float(s.x + s.w) * texel, v1 = float(s.y + s.h) * texel;
       const uint32_t base = uint32_t(mesh.vertices.size());

@@ -33,11 +33,12 @@ float semantic_weight(ObjectKind kind) {
 }
 
 ClusterSelection::ClusterSelection(const Scene& scene, const ClusterTree& tree, const LodSet& lods,
-                                   const BoxSet* boxes)
+                                   const BoxSet* boxes, bool averages)
     : scene_(scene),
       tree_(tree),
       lods_(lods),
       boxes_(boxes && !boxes->boxes.empty() ? boxes : nullptr),
+      averages_(boxes_ && averages),
       state_(tree.nodes.size(), unseen),
       last_state_(tree.nodes.size(), unseen),
       wanted_(tree.nodes.size(), 0),
@@ -200,6 +201,18 @@ float ClusterSelection::node_error(uint32_t node, uint32_t level, uint32_t direc
                   s.diagonal);
 }
 
+Choice ClusterSelection::box_choice(uint32_t box, float diagonal_m, float distance, float limit_px,
+                                    float& error_px) const {
+  if (averages_ && limit_px > 0.0f) {
+    const float across_px = projected(diagonal_m, distance);
+    if (across_px <= limit_px) {
+      error_px = across_px;
+      return {Choice::Kind::average, box};
+    }
+  }
+  return {Choice::Kind::box, box};
+}
+
 SelectionStats ClusterSelection::select(const SelectionView& view, ClusterTraversal traversal,
                                         std::vector<Choice>& out) {
   out.clear();
@@ -222,6 +235,7 @@ SelectionStats ClusterSelection::select(const SelectionView& view, ClusterTraver
 
 void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats) {
   const float allowed = view_->error_px * view_->pixel;  // metres of error per metre of distance
+  const float average_px = std::min(view_->average_px, view_->error_px);
   auto take = [&](float error_px) {
     stats.largest_error_px = std::max(stats.largest_error_px, error_px);
   };
@@ -239,9 +253,11 @@ void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats)
                                : INFINITY;
       if (box_px <= view_->error_px) {
         set_state(n, as_cluster);
-        out.push_back({Choice::Kind::box, box});
+        float error_px = box_px;
+        out.push_back(
+            box_choice(box, node_slots_[n].diagonal, seen.distance, average_px, error_px));
         stats.triangles += node_slots_[n].box_triangles;
-        take(box_px);
+        take(error_px);
         continue;
       }
       const float mesh_px = projected(node_error(n, 0, seen.direction), seen.distance);
@@ -266,11 +282,13 @@ void ClusterSelection::by_error(std::vector<Choice>& out, SelectionStats& stats)
           if (object_error(k, l, o.direction) > allowed * o.distance) break;
           level = l;
         }
-      out.push_back(level == kBox     ? Choice{Choice::Kind::box, slot.box}
+      float error_px = projected(object_error(k, level, o.direction), o.distance);
+      out.push_back(level == kBox
+                        ? box_choice(slot.box, slot.diagonal, o.distance, average_px, error_px)
                     : level == kWhole ? Choice{Choice::Kind::whole, slot.object}
                                       : Choice{Choice::Kind::lod, level});
       stats.triangles += object_triangles(k, level);
-      take(projected(object_error(k, level, o.direction), o.distance));
+      take(error_px);
     }
     for (uint32_t c = node.child_count; c-- > 0;)
       stack_.push_back({node.first_child + c, seen.in_frustum});
@@ -436,18 +454,22 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
   }
   for (const Item& item : items_) {
     if (!item.live) continue;
+    float item_px = error_px(item);
     if (item.slot == kNone) {
       if (state_[item.node] != held) set_state(item.node, as_cluster);
-      out.push_back(item.level == kBox ? Choice{Choice::Kind::box, node_box(item.node)}
-                                       : Choice{Choice::Kind::cluster, item.node});
+      out.push_back(item.level == kBox
+                        ? box_choice(node_box(item.node), node_slots_[item.node].diagonal,
+                                     item.distance, view_->average_px, item_px)
+                        : Choice{Choice::Kind::cluster, item.node});
     } else if (item.level == kBox)
-      out.push_back({Choice::Kind::box, slots_[item.slot].box});
+      out.push_back(box_choice(slots_[item.slot].box, slots_[item.slot].diagonal, item.distance,
+                               view_->average_px, item_px));
     else if (item.level == kWhole)
       out.push_back({Choice::Kind::whole, slots_[item.slot].object});
     else
       out.push_back({Choice::Kind::lod, item.level});
     stats.triangles += item.triangles;
-    stats.largest_error_px = std::max(stats.largest_error_px, error_px(item));
+    stats.largest_error_px = std::max(stats.largest_error_px, item_px);
   }
 }
 

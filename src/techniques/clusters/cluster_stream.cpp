@@ -62,10 +62,14 @@ ClusterStream::~ClusterStream() {
   if (pinned_) device_.free(pinned_);
 }
 
-Result<std::unique_ptr<ClusterStream>> ClusterStream::create(
-    const ChunkedScene& scene, const Store& store, const LodSet& lods, const ClusterTree& tree,
-    const BoxSet& boxes, BoxAtlas& atlas, gpu::Device& device, uint64_t budget_bytes) {
+Result<std::unique_ptr<ClusterStream>> ClusterStream::create(const ChunkedScene& scene,
+                                                             const Store& store, const LodSet& lods,
+                                                             const ClusterTree& tree,
+                                                             const BoxSet& boxes, BoxAtlas& atlas,
+                                                             gpu::Device& device,
+                                                             uint64_t budget_bytes, bool averages) {
   std::unique_ptr<ClusterStream> s(new ClusterStream(scene, lods, tree, boxes, atlas, device));
+  s->averages_ = averages && !boxes.boxes.empty();
   const size_t nodes = tree.nodes.size();
   s->parent_.assign(nodes, UINT32_MAX);
   s->object_node_.assign(scene.index().objects.size(), 0);
@@ -157,6 +161,8 @@ ClusterStream::Source ClusterStream::source_of(const Choice& c, const glm::vec3&
       const TexturedBox& box = boxes_.boxes[c.index];
       return {kNoMesh, -distance_to(box.bounds, eye), c.index};
     }
+    case Choice::Kind::average:
+      return {kInMemory, 0.0f, 0};
   }
   return {kNoMesh, 0.0f, 0};
 }
@@ -166,7 +172,7 @@ void ClusterStream::prefetch(std::span<const Choice> choices, const glm::vec3& e
     const Source s = source_of(c, eye);
     if (s.key == kNoMesh)
       atlas_.want(s.index_base, s.priority, true);
-    else if (s.key != kPinned)
+    else if (s.key != kPinned && s.key != kInMemory)
       pool_->prefetch(s.key, s.priority);
   }
 }
@@ -180,6 +186,7 @@ uint32_t ClusterStream::anchor(const Choice& c) const {
     case Choice::Kind::whole:
       return object_node_[c.index];
     case Choice::Kind::box:
+    case Choice::Kind::average:
       return box_node_[c.index];
   }
   return 0;
@@ -205,6 +212,12 @@ ClusterStream::StandIn ClusterStream::node_stand_in(uint32_t node, Placed& out) 
       standing_[n] = 1;
       return StandIn::node;
     }
+    if (averages_ && n < boxes_.node_box.size() && boxes_.node_box[n] != BoxSet::kNone) {
+      out = {{Choice::Kind::average, boxes_.node_box[n]}, {}, 0};
+      if (!standing_[n]) standing_list_.push_back(n);
+      standing_[n] = 1;
+      return StandIn::node;
+    }
   }
   return StandIn::none;
 }
@@ -218,13 +231,20 @@ ClusterStream::StandIn ClusterStream::stand_in(const Choice& c, Placed& out) {
       object = box_object_[c.index];
       if (object == UINT32_MAX)
         return node_stand_in(box_node_[c.index], out);  // a node's box: its cluster, or above
-      // An object's box: its coarsest resident level, else what stands in above it.
+      // An object's box: its average-colour box (coarser, always in memory), else its
+      // coarsest resident level, else what stands in above it.
+      if (averages_) {
+        out = {{Choice::Kind::average, c.index}, {}, 0};
+        return StandIn::object;
+      }
       for (uint32_t k = lods_.first_lod[object + 1]; k-- > lods_.first_lod[object];)
         if (auto mesh = resident_lod_page(lods_.lod_page[k])) {
           out = {{Choice::Kind::lod, k}, *mesh, lods_.pages[lods_.lod_page[k]].first_index};
           return StandIn::object;
         }
       return node_stand_in(object_node_[object], out);
+    case Choice::Kind::average:
+      return StandIn::none;  // always drawable
     case Choice::Kind::lod:
       object = lods_.lods[c.index].object;
       finer_than = c.index + 1;
@@ -243,6 +263,11 @@ ClusterStream::StandIn ClusterStream::stand_in(const Choice& c, Placed& out) {
   if (object < boxes_.object_box.size() && boxes_.object_box[object] != BoxSet::kNone &&
       atlas_.drawable(boxes_.object_box[object])) {
     out = {{Choice::Kind::box, boxes_.object_box[object]}, {}, 0};
+    return StandIn::object;
+  }
+  if (averages_ && object < boxes_.object_box.size() &&
+      boxes_.object_box[object] != BoxSet::kNone) {
+    out = {{Choice::Kind::average, boxes_.object_box[object]}, {}, 0};
     return StandIn::object;
   }
   return node_stand_in(object_node_[object], out);
@@ -267,6 +292,8 @@ uint64_t ClusterStream::place(std::span<const Choice> choices, const glm::vec3& 
     std::optional<MeshHandle> mesh;
     if (source.key == kPinned) {
       mesh = pinned_;
+    } else if (source.key == kInMemory) {
+      mesh = MeshHandle{};
     } else if (source.key == kNoMesh) {
       if (atlas_.drawable(source.index_base)) {
         mesh = MeshHandle{};

@@ -33,6 +33,16 @@ constexpr SettingSpec kSettings[] = {
      .unit = "px",
      .min = 0,
      .max = 1e4},
+    {.key = "average_px",
+     .type = SettingType::number,
+     .default_value = "1",
+     .help = "a textured box whose object (or cluster) spans fewer pixels than this (its "
+             "bounds' diagonal) is drawn as its average-colour box instead: per side the mean "
+             "colour of its image over the share of the side it covers (paper 001, Sec. 4.2: "
+             "\"less than a few pixels\"); without a budget only within error_px; 0: never",
+     .unit = "px",
+     .min = 0,
+     .max = 1e4},
     {.key = "levels",
      .type = SettingType::integer,
      .default_value = "6",
@@ -253,6 +263,7 @@ const TechniqueDescriptor clusters_descriptor{
                const TechniqueSettings&) -> Result<std::unique_ptr<Technique>> {
       ClustersOptions o;
       o.error_px = float(v.number("error_px"));
+      o.average_px = float(v.number("average_px"));
       o.lods.max_levels = v.integer("levels");
       o.lods.min_triangles = uint32_t(v.integer("min_triangles"));
       o.lods.threads = v.integer("threads");
@@ -364,13 +375,16 @@ Result<void> ClustersTechnique::bake(const BakeContext& context) {
     if (!baked) return make_error("clusters: ", baked.error().message);
     accuracy = std::move(*baked);
   }
+  std::vector<AverageBox> averages = average_boxes(boxes);
   if (auto ok = save_box_set(boxes, context.store); !ok) return ok;
+  if (auto ok = save_average_boxes(averages, context.store); !ok) return ok;
   if (auto ok = save_accuracy_table(accuracy, context.store); !ok) return ok;
   if (auto erased = context.store.erase("clusters/work/"); !erased) return erased.error();
   lods_ = std::move(*lods);
   tree_ = std::move(*tree);
   clusters_ = count_clusters(tree_);
   boxes_ = std::move(boxes);
+  averages_ = std::move(averages);
   accuracy_ = std::move(accuracy);
   accuracy_px_ = float(options_.accuracy.resolution_px);
   return {};
@@ -399,14 +413,16 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
     if (!boxes) return boxes.error();
     auto accuracy = load_accuracy_table(*context.store, *lods, *tree, *boxes);
     if (!accuracy) return accuracy.error();
+    auto averages = load_average_boxes(*context.store, *boxes);
+    if (!averages) return averages.error();
     auto occluder_boxes = load_occluder_boxes(*context.store, context.scene);
     if (!occluder_boxes) return occluder_boxes.error();
     occluder_boxes_ = std::move(*occluder_boxes);
     accuracy_px_ = 0.0f;  // unknown: the tables' errors at every scale
     if (auto px = (*record)->settings.find("accuracy_px"); px != (*record)->settings.end())
       accuracy_px_ = std::max(0.0f, std::strtof(px->second.c_str(), nullptr));
-    return use(std::move(*lods), std::move(*tree), std::move(*boxes), std::move(*accuracy),
-               context);
+    return use(std::move(*lods), std::move(*tree), std::move(*boxes), std::move(*averages),
+               std::move(*accuracy), context);
   }
   if (context.on_disk)
     return make_error("clusters: a scene left on disk (--cache-mb) is walked from a clusters "
@@ -420,11 +436,12 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
   if (!tree) return make_error("clusters: ", tree.error().message);
   // Boxes are rendered by a bake; without one there are none.
   occluder_boxes_.clear();
-  return use(std::move(*lods), std::move(*tree), BoxSet{}, AccuracyTable{}, context);
+  return use(std::move(*lods), std::move(*tree), BoxSet{}, {}, AccuracyTable{}, context);
 }
 
 Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
-                                    AccuracyTable accuracy, const LoadContext& context) {
+                                    std::vector<AverageBox> averages, AccuracyTable accuracy,
+                                    const LoadContext& context) {
   const Scene& scene = context.scene;
   gpu::Device& device = context.device;
   stream_.reset();
@@ -432,11 +449,16 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   lods_ = std::move(lods);
   tree_ = std::move(tree);
   boxes_ = std::move(boxes);
+  // A pack baked before them: made from the pages where they are in memory (the atlas takes
+  // them next), else none.
+  averages_ =
+      averages.empty() && !boxes_.pages.empty() ? average_boxes(boxes_) : std::move(averages);
   accuracy_ = std::move(accuracy);
   scene_ = &scene;
   clusters_ = count_clusters(tree_);
   resources_.bind(device);
-  lod_mesh_ = cluster_mesh_ = {};
+  lod_mesh_ = cluster_mesh_ = average_mesh_ = {};
+  white_ = {};
   upload_frame_ = false;
   auto atlas = context.on_disk
                    ? BoxAtlas::create_streamed(
@@ -448,9 +470,15 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   atlas_ = std::move(*atlas);
   if (context.on_disk) {
     auto stream = ClusterStream::create(*context.on_disk, *context.store, lods_, tree_, boxes_,
-                                        *atlas_, device, context.cache_bytes);
+                                        *atlas_, device, context.cache_bytes, has_averages());
     if (!stream) return make_error("clusters: ", stream.error().message);
     stream_ = std::move(*stream);
+  }
+  if (has_averages()) {  // made anew each frame from those chosen
+    auto mesh = resources_.textured_mesh({}, {});
+    if (!mesh) return make_error("clusters: ", mesh.error().message);
+    average_mesh_ = *mesh;
+    white_ = resources_.texture();
   }
   if (!lods_.indices.empty()) {
     auto mesh = resources_.scene_mesh(lods_.vertices, lods_.uvs, lods_.indices);
@@ -462,11 +490,12 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
     if (!mesh) return make_error("clusters: ", mesh.error().message);
     cluster_mesh_ = *mesh;
   }
-  selection_ = std::make_unique<ClusterSelection>(scene, tree_, lods_, &boxes_);
+  selection_ = std::make_unique<ClusterSelection>(scene, tree_, lods_, &boxes_, has_averages());
   ahead_selection_.reset();
   ahead_choices_.clear();
   if (stream_ && options_.prefetch_frames > 0)
-    ahead_selection_ = std::make_unique<ClusterSelection>(scene, tree_, lods_, &boxes_);
+    ahead_selection_ =
+        std::make_unique<ClusterSelection>(scene, tree_, lods_, &boxes_, has_averages());
   full_ = std::make_unique<ObjectSet>(scene);
   occluders_.reset();
   mesh_occluders_.reset();
@@ -480,6 +509,7 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
           scene, OccluderOptions{.per_frame = 128, .meshes = true}, occluder_boxes_);
   }
   frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = switches_ = boxes_drawn_ = 0;
+  averages_drawn_ = 0;
   selection_ms_.clear();
   coarser_frames_ = stood_in_ = 0;
   cost_ = {};
@@ -500,6 +530,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   sv.pixel = 2.0f * std::tan(glm::radians(view.hfov_deg) * 0.5f) / float(view.width);
   if (input.region.kind == Region::Kind::near) sv.near_box = input.region.box;
   sv.error_px = options_.error_px;
+  sv.average_px = options_.average_px;
   sv.hysteresis = options_.hysteresis;
   sv.hysteresis_rule = options_.hysteresis_rule;
   if (options_.errors != ClustersOptions::Errors::geometric && !accuracy_.empty()) {
@@ -635,6 +666,10 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
         ++boxes_drawn_;
         boxes_chosen_.push_back(c.index);
         break;
+      case Choice::Kind::average:
+        ++averages_drawn_;
+        averages_chosen_.push_back(c.index);
+        break;
     }
   }
   full_->emit(out);  // the whole objects, in scene order
@@ -647,7 +682,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     push(object.first_index - p.index_base, object.index_count, object.material, p.mesh);
   }
   streamed_whole_.clear();
-  const size_t box_draws = atlas_->add(boxes_chosen_, out);
+  const size_t box_draws = atlas_->add(boxes_chosen_, out) + add_averages(out);
   last_upload_bytes_ = out.upload_bytes();
   if (cost_.ready()) {
     out.predicted_ms =
@@ -656,6 +691,22 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
         upload_cost_.predict_ms(last_upload_bytes_);
     last_predicted_ms_ = out.predicted_ms;
   }
+}
+
+// The chosen average-colour boxes' front sides as one mesh of this frame, drawn with a white
+// texture (uploaded with every such list: 4 bytes); returns the draws (0 or 1).
+size_t ClustersTechnique::add_averages(DrawList& out) {
+  if (averages_chosen_.empty()) return 0;
+  auto mesh = std::make_shared<TexturedMesh>();
+  for (uint32_t b : averages_chosen_)
+    append_average_box(boxes_.boxes[b], averages_[b], last_eye_, *mesh);
+  averages_chosen_.clear();
+  if (mesh->indices.empty()) return 0;
+  static constexpr uint8_t kWhite[4] = {255, 255, 255, 255};
+  out.uploads.push_back({white_, 1, 1, 4, kWhite, nullptr});
+  out.meshes.push_back({average_mesh_, 0, uint32_t(mesh->indices.size()), white_});
+  out.textured_mesh_uploads.push_back({average_mesh_, std::move(mesh)});
+  return 1;
 }
 
 // Where each choice is drawn from: the technique's meshes, or with the scene on disk what of
@@ -703,12 +754,14 @@ void ClustersTechnique::tint(DrawList& list) const {
 std::string ClustersTechnique::describe() const {
   return formatted(
       "%zu levels of detail for %zu objects (%llu triangles), %zu nodes of which %zu clusters "
-      "(%llu triangles), %zu textured boxes (%.1f Mtexel, %.3f m a texel on average), accuracy "
-      "tables from %zu directions",
+      "(%llu triangles), %zu textured boxes (%.1f Mtexel, %.3f m a texel on average; %s), "
+      "accuracy tables from %zu directions",
       lods_.lods.size(), lods_.first_lod.empty() ? size_t(0) : lods_.first_lod.size() - 1,
       (unsigned long long)lods_.triangle_count(), tree_.nodes.size(), clusters_,
       (unsigned long long)tree_.triangle_count(), boxes_.boxes.size(),
-      double(boxes_.texels()) / 1e6, boxes_.mean_texel_m(), accuracy_.directions.size());
+      double(boxes_.texels()) / 1e6, boxes_.mean_texel_m(),
+      averages_.empty() ? "no average-colour boxes" : "with average-colour boxes",
+      accuracy_.directions.size());
 }
 
 std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
@@ -720,23 +773,24 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
     return *middle;
   };
   std::vector<std::pair<std::string, double>> figures = {
-          {"lods", double(lods_.lods.size())},
-          {"lod_triangles", double(lods_.triangle_count())},
-          {"nodes", double(tree_.nodes.size())},
-          {"clusters", double(clusters_)},
-          {"cluster_triangles", double(tree_.triangle_count())},
-          {"mean_clusters_drawn", mean(clusters_drawn_)},
-          {"mean_objects_as_lods", mean(lods_drawn_)},
-          {"mean_objects_full", mean(full_drawn_)},
-          {"boxes", double(boxes_.boxes.size())},
-          {"box_texels", double(boxes_.texels())},
-          {"mean_boxes_drawn", mean(boxes_drawn_)},
-          {"mean_visited", mean(visited_)},
-          {"median_selection_ms", median(selection_ms_)},
-          {"switches", double(switches_)},
-          {"cost_fixed_ms", cost_.fixed_ms()},
-          {"cost_ms_per_triangle", cost_.ms_per_triangle()},
-          {"cost_ms_per_draw", cost_.ms_per_draw()}};
+      {"lods", double(lods_.lods.size())},
+      {"lod_triangles", double(lods_.triangle_count())},
+      {"nodes", double(tree_.nodes.size())},
+      {"clusters", double(clusters_)},
+      {"cluster_triangles", double(tree_.triangle_count())},
+      {"mean_clusters_drawn", mean(clusters_drawn_)},
+      {"mean_objects_as_lods", mean(lods_drawn_)},
+      {"mean_objects_full", mean(full_drawn_)},
+      {"boxes", double(boxes_.boxes.size())},
+      {"box_texels", double(boxes_.texels())},
+      {"mean_boxes_drawn", mean(boxes_drawn_)},
+      {"mean_average_boxes_drawn", mean(averages_drawn_)},
+      {"mean_visited", mean(visited_)},
+      {"median_selection_ms", median(selection_ms_)},
+      {"switches", double(switches_)},
+      {"cost_fixed_ms", cost_.fixed_ms()},
+      {"cost_ms_per_triangle", cost_.ms_per_triangle()},
+      {"cost_ms_per_draw", cost_.ms_per_draw()}};
   if (stream_) {
     const gpu::MeshPoolCounters& c = stream_->counters();
     figures.insert(figures.end(), {{"cache_hits", double(c.hits)},

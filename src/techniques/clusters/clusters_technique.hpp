@@ -13,6 +13,7 @@
 #include "farfield/spatial/occluders.hpp"
 #include "farfield/spatial/occlusion_map.hpp"
 #include "farfield/techniques/clusters/accuracy_table.hpp"
+#include "farfield/techniques/clusters/average_boxes.hpp"
 #include "farfield/techniques/clusters/budget_target.hpp"
 #include "farfield/techniques/clusters/cluster_selection.hpp"
 #include "farfield/techniques/clusters/cluster_stream.hpp"
@@ -41,6 +42,7 @@ struct ClustersOptions {
   Errors errors = Errors::image;
   BenefitWeights benefit;
   float error_px = 1.0f;  // the largest projected geometric error, pixels
+  float average_px = 1.0f;  // boxes of subjects smaller on screen: average-colour boxes
   ClusterTraversal traversal = ClusterTraversal::refined;
   int hysteresis = 8;  // frames (paper 001, Sec. 4.6)
   HysteresisRule hysteresis_rule = HysteresisRule::paper;
@@ -66,9 +68,11 @@ class ClustersTechnique final : public Technique {
   void tint(DrawList& list) const override;
 
  private:
-  Result<void> use(LodSet lods, ClusterTree tree, BoxSet boxes, AccuracyTable accuracy,
-                   const LoadContext& context);
+  Result<void> use(LodSet lods, ClusterTree tree, BoxSet boxes, std::vector<AverageBox> averages,
+                   AccuracyTable accuracy, const LoadContext& context);
   void place(DrawList& out);
+  size_t add_averages(DrawList& out);
+  bool has_averages() const { return !averages_.empty(); }
 
   ClustersOptions options_;
   const Scene* scene_ = nullptr;
@@ -76,6 +80,10 @@ class ClustersTechnique final : public Technique {
   ClusterTree tree_;
   size_t clusters_ = 0;  // nodes of tree_ with a cluster
   BoxSet boxes_;         // without pixels: they are atlas_'s
+  std::vector<AverageBox> averages_;  // one per box, or none
+  std::vector<uint32_t> averages_chosen_;
+  MeshHandle average_mesh_;  // this frame's average-colour boxes
+  TextureHandle white_;
   AccuracyTable accuracy_;
   float accuracy_px_ = 0.0f;            // texels across a subject at the tables' finest comparison
   std::unique_ptr<BoxAtlas> atlas_;
@@ -106,7 +114,7 @@ class ClustersTechnique final : public Technique {
   // figures()
   uint64_t frames_ = 0, clusters_drawn_ = 0, lods_drawn_ = 0, full_drawn_ = 0, visited_ = 0;
   std::vector<double> selection_ms_;  // the hierarchy's traversal alone, each frame
-  uint64_t boxes_drawn_ = 0;
+  uint64_t boxes_drawn_ = 0, averages_drawn_ = 0;
   uint64_t switches_ = 0;
   uint64_t coarser_frames_ = 0, stood_in_ = 0;  // with the scene on disk
 };

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <span>
 #include <vector>
 
@@ -43,6 +44,13 @@ struct TexturedBox {
   uint32_t side_count() const;
 };
 static_assert(sizeof(TexturedBox) == 80);
+
+// Side `side` of `box` seen from outside: its centre, and half its extent along the image's
+// right and up directions (right x up points outwards: counter-clockwise from outside).
+struct BoxSideFrame {
+  glm::vec3 centre, right, up;
+};
+BoxSideFrame box_side_frame(const Bounds3& box, int side);
 
 inline constexpr int kBoxGutterPx = 2;  // free texels beside each side, so that mipmaps bleed less
 

@@ -83,14 +83,18 @@ struct SelectionView {
   float half_fov_rad = 0.785f;           // from the line of sight to a corner of the view
   glm::vec3 velocity{0.0f};              // of the eye since the last frame, metres
   float width_px = 1024.0f;
+  // A box chosen whose bounds' diagonal projects below this many pixels is drawn as its
+  // average-colour box (paper 001, Sec. 4.2: "less than a few pixels"; its error: that
+  // diagonal), by error only where that is within error_px too. 0: never.
+  float average_px = 0.0f;
 };
 
 // One thing to draw: a cluster's mesh, an object's level of detail, an object whole, or a
-// textured box (an object's or a cluster's).
+// textured box (an object's or a cluster's) or its average-colour box (average_boxes.hpp).
 struct Choice {
-  enum class Kind : uint8_t { cluster, lod, whole, box };
+  enum class Kind : uint8_t { cluster, lod, whole, box, average };
   Kind kind;
-  uint32_t index;  // node, into LodSet::lods, object, or into BoxSet::boxes
+  uint32_t index;  // node, into LodSet::lods, object, or into BoxSet::boxes (box and average)
 };
 
 struct SelectionStats {
@@ -103,9 +107,10 @@ struct SelectionStats {
 
 class ClusterSelection {
  public:
-  // All outlive the selection; `boxes` may be null (no textured boxes).
+  // All outlive the selection; `boxes` may be null (no textured boxes); `averages`: every box
+  // has an average-colour box.
   ClusterSelection(const Scene& scene, const ClusterTree& tree, const LodSet& lods,
-                   const BoxSet* boxes = nullptr);
+                   const BoxSet* boxes = nullptr, bool averages = false);
   // This frame's choices (replacing `out`'s).
   SelectionStats select(const SelectionView& view, ClusterTraversal traversal,
                         std::vector<Choice>& out);
@@ -155,6 +160,10 @@ class ClusterSelection {
   float resolved(float image_m, float geometric_m, float diagonal_m) const;
   float benefit_of(const Bounds3& box, float distance, float semantics) const;
   uint32_t node_box(uint32_t node) const { return node_slots_[node].box; }
+  // Box `box` as drawn, the average-colour box where its subject (of diagonal `diagonal_m` at
+  // `distance`) projects below `limit_px`; `error_px` becomes that projection then.
+  Choice box_choice(uint32_t box, float diagonal_m, float distance, float limit_px,
+                    float& error_px) const;
   void by_error(std::vector<Choice>& out, SelectionStats& stats);
   void under_budget(std::vector<Choice>& out, SelectionStats& stats);
   // The coarsest complete representation of a node's visible content, appended to `into`;
@@ -167,6 +176,7 @@ class ClusterSelection {
   const ClusterTree& tree_;
   const LodSet& lods_;
   const BoxSet* boxes_;
+  bool averages_;
   // What selection reads of an object, in the hierarchy's order (ClusterTree::objects), so
   // that a node's objects lie together in memory: a frame's visits, after drawing has
   // flushed the caches, read a few cache lines each instead of one an array.

@@ -4,9 +4,10 @@
 // the scene file, through one bounded pool of GPU meshes (gpu/mesh_pool.hpp) loaded on a
 // background thread. A frame never waits for them: a choice whose page is not resident is
 // asked for (the nearest first) and stood in for by the nearest coarser representation that
-// is: a coarser level or the box of the same object, else the cluster (or box) of the lowest
-// node above it whose is, which then stands for everything beneath it, so that the frame has
-// no holes and draws nothing twice. Boxes likewise wait for their tile (box_atlas.hpp).
+// is: a coarser level or the box or average-colour box (average_boxes.hpp: always in memory)
+// of the same object, else the cluster (or box) of the lowest node above it whose is, which
+// then stands for everything beneath it, so that the frame has no holes and draws nothing
+// twice. Boxes wait for their tile (box_atlas.hpp), their average-colour boxes drawn meanwhile.
 // The first pages of the hierarchy (its top: the root's
 // cluster and the nodes below it, breadth first) are read when the walk starts and never
 // leave, so that there is always something to stand in.
@@ -42,10 +43,10 @@ class ClusterStream {
   // together.
   static Result<std::unique_ptr<ClusterStream>> create(const ChunkedScene& scene,
                                                        const Store& store, const LodSet& lods,
-                                                       const ClusterTree& tree,
-                                                       const BoxSet& boxes, BoxAtlas& atlas,
-                                                       gpu::Device& device,
-                                                       uint64_t budget_bytes);
+                                                       const ClusterTree& tree, const BoxSet& boxes,
+                                                       BoxAtlas& atlas, gpu::Device& device,
+                                                       uint64_t budget_bytes,
+                                                       bool averages = false);
   ~ClusterStream();
   ClusterStream(const ClusterStream&) = delete;
   ClusterStream& operator=(const ClusterStream&) = delete;
@@ -77,9 +78,10 @@ class ClusterStream {
   ClusterStream(const ChunkedScene& scene, const LodSet& lods, const ClusterTree& tree,
                 const BoxSet& boxes, BoxAtlas& atlas, gpu::Device& device);
   // Where a choice's triangles are: the pool's key for the page or chunk that holds them
-  // (kPinned: the pinned top; kNoMesh: a box, `index_base`), how near (the pool's priority), and the first
-  // index of that page or chunk.
-  static constexpr uint64_t kPinned = UINT64_MAX, kNoMesh = UINT64_MAX - 1;
+  // (kPinned: the pinned top; kNoMesh: a box, `index_base`; kInMemory: an average-colour box),
+  // how near (the pool's priority), and the first index of that page or chunk.
+  static constexpr uint64_t kPinned = UINT64_MAX, kNoMesh = UINT64_MAX - 1,
+                            kInMemory = UINT64_MAX - 2;
   struct Source {
     uint64_t key;
     float priority;
@@ -103,6 +105,7 @@ class ClusterStream {
   const LodSet& lods_;
   const ClusterTree& tree_;
   const BoxSet& boxes_;
+  bool averages_ = false;  // every box has an average-colour box (always drawable)
   BoxAtlas& atlas_;
   gpu::Device& device_;
   std::unique_ptr<gpu::MeshPool> pool_;
