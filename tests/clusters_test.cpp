@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
-
 #include <filesystem>
+#include <random>
 
 #include "farfield/core/assert.hpp"
 #include "farfield/eval/image_metrics.hpp"
@@ -256,6 +256,61 @@ TEST(Clusters, ABudgetIsHeldWithEveryObjectDrawn) {
   (*cold)->select({view, 1, Region::everything(), FrameBudget{20.0, 0.0, 0.0, 0}}, list);
   EXPECT_GT(list.triangle_count(), 0u);
   EXPECT_LE(list.triangle_count(), cheapest);
+}
+
+// Two rough 32 x 32 grids 60 m apart (2,048 triangles each, random heights, so that their
+// one level of detail keeps about half).
+Scene two_rough_grids() {
+  Scene scene;
+  SceneBuilder b(scene);
+  const uint32_t grey = b.add_material(Material{{0.6f, 0.6f, 0.6f, 1.0f}});
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> height(0.0f, 1.0f);
+  for (int g = 0; g < 2; ++g) {
+    b.begin_object("grid_" + std::to_string(g), ObjectKind::building, grey);
+    for (int z = 0; z <= 32; ++z)
+      for (int x = 0; x <= 32; ++x)
+        b.add_vertex({60.0f * float(g) + 0.5f * float(x), height(rng), 0.5f * float(z)}, {0, 1, 0},
+                     0xffffffffu);
+    for (uint32_t z = 0; z < 32; ++z)
+      for (uint32_t x = 0; x < 32; ++x) {
+        const uint32_t v = z * 33 + x;
+        b.add_triangle(v, v + 33, v + 1);
+        b.add_triangle(v + 1, v + 33, v + 34);
+      }
+    b.end_object();
+  }
+  return scene;
+}
+
+// A walk whose frames all hold one count and take a time that prices each triangle so high
+// that the cheapest refinement never seems to fit (as a field of trees drawn as boxes, whose
+// fixed cost the model charges to their few triangles): the root's cluster of 8 triangles,
+// each grid's level of detail about 1,000. It still refines, asking for what the refinement
+// it skipped needed.
+TEST(Clusters, AWalkStuckAtItsCoarsestFramesRefinesAsItLearns) {
+  const Scene scene = two_rough_grids();
+  gpu::MemoryDevice device;
+  View view;
+  view.pose.position = scene.bounds.center() + glm::vec3(0.0f, 80.0f, 0.0f);
+  view.pose.pitch_deg = -89.0f;
+  auto clusters = make_technique(
+      "clusters", test::settings_of({"clusters.hysteresis=0", "clusters.cluster_triangles=8",
+                                     "clusters.levels=1", "clusters.occlusion=0"}));
+  ASSERT_TRUE(test::load_technique(**clusters, scene, &device));
+  DrawList list;
+  (*clusters)->select({view, 0, Region::everything(), FrameBudget{33.0, 0.0, 0.0, 0}}, list);
+  const uint64_t coarsest = list.triangle_count();
+  ASSERT_LE(coarsest, 16u);
+  uint64_t most = coarsest;
+  for (uint64_t frame = 1; frame < 30; ++frame) {
+    // Every frame took 15 ms, whatever it drew: well under the 33 ms budget.
+    const FrameBudget budget{33.0, 15.0, 0.0, list.triangle_count(), list.opaque.size()};
+    list.clear();
+    (*clusters)->select({view, frame, Region::everything(), budget}, list);
+    most = std::max(most, list.triangle_count());
+  }
+  EXPECT_GT(most, 1000u);
 }
 
 // From afar the levels look like the tree: the frame is close to brute force's.

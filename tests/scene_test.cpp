@@ -136,6 +136,14 @@ TEST(FieldGenerator, CopiesStandOnTheGroundOnAGrid) {
   const glm::vec4 c = unpack_color(field->vertices[24].color);
   EXPECT_NEAR(c.b, 1.0f, 0.01f);
   EXPECT_NEAR(c.r, 0.5f, 0.01f);
+  // make_box_row(2) holds a building and a mesh: its copies are meshes; a model of one kind
+  // gives copies of that kind.
+  EXPECT_EQ(field->objects[0].kind, ObjectKind::mesh);
+  Scene trees = model;
+  for (Object& o : trees.objects) o.kind = ObjectKind::tree;
+  auto grove = generate_field(trees, {.count = 2, .spacing = 10.0}, quiet);
+  ASSERT_TRUE(grove);
+  EXPECT_EQ(grove->objects[1].kind, ObjectKind::tree);
 }
 
 TEST(FieldGenerator, RejectsBadOptions) {

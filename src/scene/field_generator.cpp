@@ -27,6 +27,11 @@ Result<Scene> generate_field(const Scene& model, const FieldOptions& o, Progress
 
   // The model with its material colours folded into vertex colours, flattened in object order.
   bool any_transparent = false;
+  // A copy is of the model's kind where all its objects share one (a field of trees stays
+  // trees: clusters draws their boxes as billboards), else an unclassified mesh.
+  ObjectKind kind = model.objects.front().kind;
+  for (const Object& object : model.objects)
+    if (object.kind != kind) kind = ObjectKind::mesh;
   std::vector<Vertex> vertices;
   std::vector<uint32_t> indices;  // relative to `vertices`
   vertices.reserve(model.vertices.size());
@@ -61,7 +66,7 @@ Result<Scene> generate_field(const Scene& model, const FieldOptions& o, Progress
     const glm::vec3 offset =
         origin + glm::vec3(spacing * float(c % per_row), 0.0f, spacing * float(c / per_row)) -
         anchor;
-    builder.begin_object("copy_" + std::to_string(c), ObjectKind::mesh, material);
+    builder.begin_object("copy_" + std::to_string(c), kind, material);
     for (const Vertex& v : vertices) {
       builder.add_vertex(v.position + offset, unpack_normal(v.normal), v.color);
     }

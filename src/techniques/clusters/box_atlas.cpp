@@ -239,6 +239,9 @@ Result<std::unique_ptr<BoxAtlas>> BoxAtlas::create(BoxSet& boxes, gpu::OwnedReso
   FF_ASSERT(boxes.pages.size() == boxes.page_count, "%zu box pages of %u", boxes.pages.size(),
             boxes.page_count);
   std::unique_ptr<BoxAtlas> a(new BoxAtlas(boxes, resources, tile_px));
+  auto billboards = resources.textured_mesh({}, {});
+  if (!billboards) return billboards.error();
+  a->billboards_ = *billboards;
   for (uint32_t t = 0; t < a->tiles(); ++t) {
     const int px = a->tiling_.tile_px[t];
     CutTile cut = mesh_of(a->tiling_, t);
@@ -271,6 +274,9 @@ Result<std::unique_ptr<BoxAtlas>> BoxAtlas::create_streamed(const BoxSet& boxes,
                                                             uint64_t upload_bytes_per_frame,
                                                             int tile_px) {
   std::unique_ptr<BoxAtlas> a(new BoxAtlas(boxes, resources, tile_px));
+  auto billboards = resources.textured_mesh({}, {});
+  if (!billboards) return billboards.error();
+  a->billboards_ = *billboards;
   for (uint32_t t = 0; t < a->tiles(); ++t) {
     auto mesh = resources.textured_mesh({}, {});
     if (!mesh) return mesh.error();
@@ -390,6 +396,31 @@ size_t BoxAtlas::add(std::vector<uint32_t>& chosen, DrawList& out) const {
     draws += e - b > kMeshRangesPerCall ? 1 : e - b;
     b = e;
   }
+  return draws;
+}
+
+size_t BoxAtlas::add_billboards(std::vector<uint32_t>& chosen, const glm::vec3& eye,
+                                DrawList& out) {
+  if (chosen.empty()) return 0;
+  std::sort(chosen.begin(), chosen.end(), [&](uint32_t a, uint32_t b) {  // by tile
+    const uint32_t ta = tiling_.tiles.boxes[a].page, tb = tiling_.tiles.boxes[b].page;
+    return ta != tb ? ta < tb : a < b;
+  });
+  auto mesh = std::make_shared<TexturedMesh>();
+  size_t draws = 0;
+  for (size_t i = 0; i < chosen.size();) {
+    const uint32_t tile = tiling_.tiles.boxes[chosen[i]].page;
+    FF_ASSERT(drawable_[tile], "billboard %u drawn before its tile %u is in", chosen[i], tile);
+    const uint32_t first = uint32_t(mesh->indices.size());
+    for (; i < chosen.size() && tiling_.tiles.boxes[chosen[i]].page == tile; ++i)
+      append_billboard(tiling_.tiles.boxes[chosen[i]], tiling_.tile_px[tile], eye, *mesh);
+    const uint32_t count = uint32_t(mesh->indices.size()) - first;
+    if (count == 0) continue;
+    out.meshes.push_back({billboards_, first, count, textures_[tile]});
+    ++draws;
+  }
+  chosen.clear();
+  if (draws > 0) out.textured_mesh_uploads.push_back({billboards_, std::move(mesh)});
   return draws;
 }
 

@@ -111,10 +111,13 @@ uint64_t ClusterSelection::count_switches() {
   uint64_t switches = 0;
   auto cluster = [](uint8_t s) { return s == as_cluster || s == held; };
   ++frame_;
+  switched_.clear();
   for (uint32_t n : touched_) {
     const bool coarsened = cluster(state_[n]) && last_state_[n] == refined;
+    const bool refined_now = state_[n] == refined && cluster(last_state_[n]);
     if (coarsened) coarsened_at_[n] = frame_;
-    switches += coarsened || (state_[n] == refined && cluster(last_state_[n]));
+    switches += coarsened || refined_now;
+    if (coarsened || refined_now) switched_.push_back({n, refined_now});
   }
   for (uint32_t n : last_touched_)
     if (last_state_[n] == refined && state_[n] == unseen) coarsened_at_[n] = 0;  // left view
@@ -216,6 +219,7 @@ Choice ClusterSelection::box_choice(uint32_t box, float diagonal_m, float distan
 SelectionStats ClusterSelection::select(const SelectionView& view, ClusterTraversal traversal,
                                         std::vector<Choice>& out) {
   out.clear();
+  switched_.clear();
   SelectionStats stats;
   if (tree_.nodes.empty() || !view.frustum) return stats;
   view_ = &view;
@@ -384,7 +388,10 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
         const double mesh_cost =
             node.triangles + view_->triangles_per_draw * double(node.parts_end - node.parts_begin);
         const double more = mesh_cost - item.cost;
-        if (more > 0 && cost + more > budget && item.distance > 0.0f) continue;
+        if (more > 0 && cost + more > budget && item.distance > 0.0f) {
+          stats.needed = std::min(stats.needed, cost + more);
+          continue;
+        }
         cost += more;
         item.level = 0;
         item.triangles = node.triangles;
@@ -402,7 +409,10 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
       // A refinement that does not fit is skipped (a cheaper one may still fit); one that
       // costs nothing is always taken, and so is a cluster the eye is inside, whose coarse
       // mesh would wrap the view (a frame of 7 dB on the 10M city's street where it was not).
-      if (more > 0 && cost + more > budget && item.distance > 0.0f) continue;
+      if (more > 0 && cost + more > budget && item.distance > 0.0f) {
+        stats.needed = std::min(stats.needed, cost + more);
+        continue;
+      }
       // Temporal coherence (paper 001, Sec. 4.6), by one of two rules:
       //  - paper (default): a cluster drawn last frame is refined only once wanted for more than
       //    `hysteresis` frames in a row (one not drawn last frame, just come into view or
@@ -445,7 +455,10 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     // A level is a draw of its own; a box was not (SelectionView::triangles_per_draw).
     const double more = double(triangles) - double(item.triangles) +
                         (item.level == kBox ? view_->triangles_per_draw : 0.0);
-    if (more > 0 && cost + more > budget) continue;
+    if (more > 0 && cost + more > budget) {
+      stats.needed = std::min(stats.needed, cost + more);
+      continue;
+    }
     cost += more;
     item.level = finer;
     item.triangles = triangles;

@@ -100,6 +100,14 @@ constexpr SettingSpec kSettings[] = {
              "at the tallest one's height), or none",
      .choices = "all|objects|none",
      .baked = true},
+    {.key = "billboards",
+     .type = SettingType::choice,
+     .default_value = "trees",
+     .help = "objects whose textured box is drawn as a billboard instead (paper 001, Sec. "
+             "4.1.2: the side image facing the viewer most, on a quad through the centre "
+             "turned to face it, for roughly symmetric objects): trees (objects of kind "
+             "tree), all, or none",
+     .choices = "trees|all|none"},
     {.key = "box_texels",
      .type = SettingType::number,
      .default_value = "64",
@@ -275,6 +283,9 @@ const TechniqueDescriptor clusters_descriptor{
       o.boxes = v.text("boxes") != "none";
       o.box.clusters = v.text("boxes") == "all";
       o.box.max_texels = v.number("box_texels") * 1e6;
+      o.billboards = v.text("billboards") == "all"    ? ClustersOptions::Billboards::all
+                     : v.text("billboards") == "none" ? ClustersOptions::Billboards::none
+                                                      : ClustersOptions::Billboards::trees;
       o.accuracy_tables = v.integer("accuracy_directions") > 0;
       o.accuracy.directions = v.integer("accuracy_directions");
       o.accuracy.resolution_px = v.integer("accuracy_px");
@@ -454,6 +465,14 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   averages_ =
       averages.empty() && !boxes_.pages.empty() ? average_boxes(boxes_) : std::move(averages);
   accuracy_ = std::move(accuracy);
+  // Object boxes drawn as billboards (the nodes' never: a cluster is no symmetric object).
+  billboard_.assign(boxes_.boxes.size(), 0);
+  if (options_.billboards != ClustersOptions::Billboards::none)
+    for (uint32_t o = 0; o < boxes_.object_box.size(); ++o)
+      if (boxes_.object_box[o] != BoxSet::kNone &&
+          (options_.billboards == ClustersOptions::Billboards::all ||
+           scene.objects[o].kind == ObjectKind::tree))
+        billboard_[boxes_.object_box[o]] = 1;
   scene_ = &scene;
   clusters_ = count_clusters(tree_);
   resources_.bind(device);
@@ -509,10 +528,12 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
           scene, OccluderOptions{.per_frame = 128, .meshes = true}, occluder_boxes_);
   }
   frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = switches_ = boxes_drawn_ = 0;
-  averages_drawn_ = 0;
+  averages_drawn_ = billboards_drawn_ = 0;
   selection_ms_.clear();
   coarser_frames_ = stood_in_ = 0;
   cost_ = {};
+  last_needed_ = INFINITY;
+  probe_triangles_ = 0.0;
   upload_cost_ = {};
   last_upload_bytes_ = {};
   return {};
@@ -598,14 +619,24 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
       // Frames of one count cannot tell the fixed part from the triangles' (the model then
       // charges all to the triangles, and the 892 triangles of the 10M city's root cluster at
       // 5 us each never afford a refinement): while the last frame was under the budget, ask
-      // for twice its triangles, so that the counts vary.
-      if (!cost_.separated() && input.budget.last_frame_ms < target_ms)
-        sv.max_triangles = std::max(sv.max_triangles, 2.0 * double(input.budget.last_triangles));
+      // for twice its triangles, so that the counts vary; and where the last frame skipped a
+      // refinement for want of budget, for what that needed, doubled every such frame (a
+      // field of trees drawn as 456 triangles of boxes, whose first level of detail costs
+      // thousands, stayed at its boxes for the whole walk at 33 ms asking for 4,000 to 9,000).
+      if (!cost_.separated() && input.budget.last_frame_ms < target_ms) {
+        probe_triangles_ =
+            std::isfinite(last_needed_) ? std::max(2.0 * probe_triangles_, last_needed_) : 0.0;
+        sv.max_triangles = std::max(
+            {sv.max_triangles, 2.0 * double(input.budget.last_triangles), probe_triangles_});
+      } else {
+        probe_triangles_ = 0.0;
+      }
     }
     sv.triangles_per_draw = cost_.triangles_per_draw();
   }
   const auto selection_start = std::chrono::steady_clock::now();
   const SelectionStats stats = selection_->select(sv, options_.traversal, choices_);
+  last_needed_ = stats.needed;
   selection_ms_.push_back(
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - selection_start)
           .count());
@@ -663,8 +694,13 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
           full_->insert(c.index);
         break;
       case Choice::Kind::box:
-        ++boxes_drawn_;
-        boxes_chosen_.push_back(c.index);
+        if (billboard_[c.index]) {
+          ++billboards_drawn_;
+          billboards_chosen_.push_back(c.index);
+        } else {
+          ++boxes_drawn_;
+          boxes_chosen_.push_back(c.index);
+        }
         break;
       case Choice::Kind::average:
         ++averages_drawn_;
@@ -682,7 +718,9 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     push(object.first_index - p.index_base, object.index_count, object.material, p.mesh);
   }
   streamed_whole_.clear();
-  const size_t box_draws = atlas_->add(boxes_chosen_, out) + add_averages(out);
+  const size_t box_draws = atlas_->add(boxes_chosen_, out) +
+                           atlas_->add_billboards(billboards_chosen_, last_eye_, out) +
+                           add_averages(out);
   last_upload_bytes_ = out.upload_bytes();
   if (cost_.ready()) {
     out.predicted_ms =
@@ -785,6 +823,7 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
       {"box_texels", double(boxes_.texels())},
       {"mean_boxes_drawn", mean(boxes_drawn_)},
       {"mean_average_boxes_drawn", mean(averages_drawn_)},
+      {"mean_billboards_drawn", mean(billboards_drawn_)},
       {"mean_visited", mean(visited_)},
       {"median_selection_ms", median(selection_ms_)},
       {"switches", double(switches_)},

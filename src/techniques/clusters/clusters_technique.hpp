@@ -33,6 +33,8 @@ struct ClustersOptions {
   ClusterTreeOptions tree;
   bool boxes = true;  // bake textured boxes (BoxSetOptions::clusters: of clusters too)
   BoxSetOptions box;
+  // Object boxes drawn as billboards: of trees, of every object, or none.
+  enum class Billboards : uint8_t { trees, all, none } billboards = Billboards::trees;
   bool accuracy_tables = true;  // bake the accuracy tables
   AccuracyOptions accuracy;
   // Where the pack has tables: image, their errors down to their finest texel and the
@@ -82,6 +84,8 @@ class ClustersTechnique final : public Technique {
   BoxSet boxes_;         // without pixels: they are atlas_'s
   std::vector<AverageBox> averages_;  // one per box, or none
   std::vector<uint32_t> averages_chosen_;
+  std::vector<uint8_t> billboard_;  // per box: drawn as a billboard
+  std::vector<uint32_t> billboards_chosen_;
   MeshHandle average_mesh_;  // this frame's average-colour boxes
   TextureHandle white_;
   AccuracyTable accuracy_;
@@ -90,6 +94,8 @@ class ClustersTechnique final : public Technique {
   std::vector<uint32_t> boxes_chosen_;
   bool upload_frame_ = false;        // the last frame uploaded every page at once
   double last_predicted_ms_ = -1.0;  // the last frame's; < 0: none
+  double last_needed_ = INFINITY;    // SelectionStats::needed of the last frame
+  double probe_triangles_ = 0.0;     // the budget asked while the cost model learns
   BudgetTarget budget_target_;
   glm::vec3 last_eye_{0.0f};
   gpu::OwnedResources resources_;
@@ -114,7 +120,7 @@ class ClustersTechnique final : public Technique {
   // figures()
   uint64_t frames_ = 0, clusters_drawn_ = 0, lods_drawn_ = 0, full_drawn_ = 0, visited_ = 0;
   std::vector<double> selection_ms_;  // the hierarchy's traversal alone, each frame
-  uint64_t boxes_drawn_ = 0, averages_drawn_ = 0;
+  uint64_t boxes_drawn_ = 0, averages_drawn_ = 0, billboards_drawn_ = 0;
   uint64_t switches_ = 0;
   uint64_t coarser_frames_ = 0, stood_in_ = 0;  // with the scene on disk
 };

@@ -26,6 +26,7 @@
 #include "farfield/core/result.hpp"
 #include "farfield/gpu/device.hpp"
 #include "farfield/gpu/draw_list.hpp"
+#include "farfield/techniques/clusters/billboards.hpp"
 #include "farfield/techniques/clusters/box_set.hpp"
 
 namespace farfield {
@@ -87,6 +88,9 @@ class BoxAtlas {
   // The chosen boxes as draws, neighbours in a tile one draw (`chosen` sorted, then cleared);
   // returns the draws the renderer will count for them.
   size_t add(std::vector<uint32_t>& chosen, DrawList& out) const;
+  // The chosen boxes as billboards seen from `eye` (billboards.hpp): one mesh made for the
+  // frame, a draw per tile (`chosen` sorted by tile, then cleared); returns the draws.
+  size_t add_billboards(std::vector<uint32_t>& chosen, const glm::vec3& eye, DrawList& out);
   // The first page that could not be read, or empty: its tiles are never drawable.
   std::string failure() const { return failure_; }
   uint32_t tiles() const { return uint32_t(tiling_.page_of_tile.size()); }
@@ -99,6 +103,7 @@ class BoxAtlas {
 
   BoxTiling tiling_;
   std::vector<MeshHandle> meshes_;       // per tile
+  MeshHandle billboards_;                // this frame's billboards
   std::vector<TextureHandle> textures_;  // per tile
   std::vector<uint32_t> first_, count_;  // per box: its indices in its tile's mesh
   std::vector<uint8_t> drawable_;        // per tile

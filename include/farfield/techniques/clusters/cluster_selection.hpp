@@ -103,6 +103,9 @@ struct SelectionStats {
   float largest_error_px = 0;  // the coarsest choice's projected error
   // Nodes drawn as their cluster this frame and refined the last, or the other way round.
   uint64_t switches = 0;
+  // Under a budget: the least budget that would have taken a refinement skipped for want of
+  // it (at least that: an opening stops once it cannot fit); infinite where none was.
+  double needed = INFINITY;
 };
 
 class ClusterSelection {
@@ -114,6 +117,13 @@ class ClusterSelection {
   // This frame's choices (replacing `out`'s).
   SelectionStats select(const SelectionView& view, ClusterTraversal traversal,
                         std::vector<Choice>& out);
+  // The nodes that the last select() drew as their cluster where the frame before drew their
+  // children, or the other way round (`refined`): SelectionStats::switches of them.
+  struct NodeSwitch {
+    uint32_t node;
+    bool refined;
+  };
+  const std::vector<NodeSwitch>& switched() const { return switched_; }
 
  private:
   static constexpr uint32_t kWhole = UINT32_MAX;
@@ -216,6 +226,7 @@ class ClusterSelection {
   std::vector<uint32_t> touched_, last_touched_;  // nodes whose state_ is set
   std::vector<uint16_t> wanted_;                  // frames in a row a refinement was held
   std::vector<uint64_t> coarsened_at_;  // the frame a node went back from its children, or 0
+  std::vector<NodeSwitch> switched_;
   uint64_t frame_ = 0;
 };
 
