@@ -6,17 +6,17 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <numeric>
-
 #include <glm/trigonometric.hpp>
+#include <numeric>
 
 #include "farfield/core/assert.hpp"
 #include "farfield/core/progress.hpp"
 #include "farfield/scene/city_generator.hpp"
 #include "farfield/scene/simplify.hpp"
-#include "farfield/store/store.hpp"
 #include "farfield/spatial/occluders.hpp"
+#include "farfield/store/store.hpp"
 #include "farfield/techniques/clusters/cluster_selection.hpp"
+#include "farfield/techniques/clusters/switch_fades.hpp"
 #include "test_util.hpp"
 
 namespace farfield {
@@ -533,6 +533,62 @@ TEST(ClusterSelection, AverageBoxesStandForBoxesOfFewPixels) {
     }
   }
   EXPECT_GT(most, 10);
+}
+
+// Blended switches: a node refined fades its cluster out and what is drawn beneath it in,
+// a share a frame; a node coarsened fades what was drawn beneath it out; a switch above a
+// fading node ends its fade; choices elsewhere are drawn whole.
+TEST(SwitchFades, AFadeMovesTheOldToTheNewAShareAFrame) {
+  const Scene& scene = small_city();
+  const Baked& b = baked();
+  const BoxSet boxes = synthetic_boxes(scene, b.tree);
+  // A clustered child of the root with objects of its own.
+  uint32_t node = UINT32_MAX;
+  const ClusterNode& root = b.tree.nodes[0];
+  for (uint32_t c = root.first_child; c < root.first_child + root.child_count; ++c)
+    if (b.tree.nodes[c].clustered() && b.tree.nodes[c].own_end > b.tree.nodes[c].objects_begin)
+      node = c;
+  ASSERT_NE(node, UINT32_MAX);
+  const ClusterNode& n = b.tree.nodes[node];
+  const uint32_t other = b.tree.nodes[root.first_child].clustered() && root.first_child != node
+                             ? root.first_child
+                             : root.first_child + 1;
+  const Choice elsewhere{Choice::Kind::cluster, other};
+  std::vector<Choice> coarse = {{Choice::Kind::cluster, node}, elsewhere}, fine = {elsewhere};
+  for (uint32_t k = n.objects_begin; k < n.own_end; ++k)
+    fine.push_back({Choice::Kind::whole, b.tree.objects[k]});
+  for (uint32_t c = n.first_child; c < n.first_child + n.child_count; ++c)
+    fine.push_back({Choice::Kind::cluster, c});
+  constexpr int kFrames = 3;
+  SwitchFades fades(b.tree, b.lods, boxes, scene.objects.size(), kFrames);
+  fades.update({}, coarse);
+  EXPECT_EQ(fades.active(), 0u);
+  EXPECT_EQ(fades.coverage(coarse[0]), 1.0f);
+  const ClusterSelection::NodeSwitch refined[] = {{node, true}};
+  fades.update(refined, fine);
+  for (int step = 1; step <= kFrames; ++step) {
+    SCOPED_TRACE(step);
+    const float share = float(step) / float(kFrames + 1);
+    ASSERT_EQ(fades.fading_out().size(), 1u);
+    EXPECT_EQ(fades.fading_out()[0].choice.index, node);
+    EXPECT_FLOAT_EQ(fades.fading_out()[0].coverage, share);
+    for (size_t i = 1; i < fine.size(); ++i) EXPECT_FLOAT_EQ(fades.coverage(fine[i]), share);
+    EXPECT_EQ(fades.coverage(elsewhere), 1.0f);
+    fades.update({}, fine);
+  }
+  EXPECT_EQ(fades.active(), 0u);
+  EXPECT_TRUE(fades.fading_out().empty());
+  EXPECT_EQ(fades.coverage(fine[1]), 1.0f);
+  // Back to the cluster: everything drawn beneath it fades out.
+  const ClusterSelection::NodeSwitch coarsened[] = {{node, false}};
+  fades.update(coarsened, coarse);
+  EXPECT_EQ(fades.fading_out().size(), fine.size() - 1);
+  EXPECT_FLOAT_EQ(fades.coverage(coarse[0]), 1.0f / (kFrames + 1));
+  // The root refined (a switch above the fading node) ends that fade and starts its own.
+  const ClusterSelection::NodeSwitch root_refined[] = {{0, true}};
+  fades.update(root_refined, coarse);
+  EXPECT_EQ(fades.active(), 1u);
+  EXPECT_EQ(fades.fading_out().size(), coarse.size());  // the root's last choices: all
 }
 
 // With accuracy tables, a representation's error is the one of the direction it is seen

@@ -232,6 +232,38 @@ TEST_F(RendererGL, FacesTowardALightAreBrighterThanFacesTurnedAway) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(minus_x[c], lit[c], 1);
 }
 
+// DrawList::faded: a range faded in at c and the same range faded out (complement) at c
+// draw the frame the range draws whole, pixel for pixel; alone, each covers its share of the
+// box's pixels (a 4 x 4 dither: exactly 4 of 16 at a quarter).
+TEST_F(RendererGL, FadedRangesShareThePixelsBetweenThem) {
+  const Object& o = scene_.objects[0];
+  const DrawRange range{o.first_index, o.index_count, o.material};
+  const Image whole = render(front_, list_of(scene_, {0}));
+  for (float c : {0.25f, 0.5f, 0.8f}) {
+    SCOPED_TRACE(c);
+    DrawList both;
+    both.faded = {{range, c, false}, {range, c, true}};
+    EXPECT_EQ(render(front_, both).rgb, whole.rgb);
+    int box = 0, in = 0, out = 0;
+    DrawList fading_in, fading_out;
+    fading_in.faded = {{range, c, false}};
+    fading_out.faded = {{range, c, true}};
+    const Image a = render(front_, fading_in), b = render(front_, fading_out);
+    for (int y = 0; y < whole.height; ++y)
+      for (int x = 0; x < whole.width; ++x) {
+        if (at(whole, {x, y}) == sky()) continue;
+        ++box;
+        in += at(a, {x, y}) != sky();
+        out += at(b, {x, y}) != sky();
+      }
+    ASSERT_GT(box, 100);
+    EXPECT_EQ(in + out, box);
+    // The pattern's share: the thresholds (k + 0.5) / 16 below c.
+    const double share = std::floor(c * 16.0 - 0.5 + 1.0) / 16.0;
+    EXPECT_NEAR(double(in) / box, share, 0.05);
+  }
+}
+
 TEST_F(RendererGL, ObjectsLeftOutOfTheListStaySky) {
   const Image image = render(front_, list_of(scene_, {0, 2}));
   EXPECT_NE(at(image, pixel_of(front_, front_face(0))), sky());

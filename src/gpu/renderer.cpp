@@ -93,6 +93,7 @@ struct Renderer::State {
     size_t first_command, count;
     Drawing drawing;
     uint32_t mesh = 0;  // 0: the scene's own buffers
+    glm::vec2 fade{1.0f, 0.0f};  // faded batches: FadedRange's coverage and complement
   };
   std::vector<SceneBatch> opaque_batches, transparent_batches;
   bool culling_off = false;       // drawing the transparent pass, which draws both sides anyway
@@ -106,6 +107,15 @@ struct Renderer::State {
   GLuint vao = 0, program = 0;  // vao: bound between draws, reads nothing
   // Textured scenes: the program of textured batches (untextured ones keep `program`).
   GLuint textured_scene_program = 0;
+  // DrawList::faded: the same programs keeping part of the pixels (kFadeUniform).
+  GLuint faded_program = 0, faded_textured_program = 0;
+  std::vector<SceneBatch> faded_batches;
+  std::vector<DrawRange> fade_group;
+  std::vector<SceneBatch> fade_group_batches;
+  // Every scene program (those not built are 0).
+  std::array<GLuint, 4> scene_programs() const {
+    return {program, textured_scene_program, faded_program, faded_textured_program};
+  }
   GpuResources resources;
   GLuint proxy_program = 0, textured_program = 0;
   // A run of consecutive MeshDraws of one mesh and texture, drawn by one call: commands in
@@ -164,6 +174,8 @@ struct Renderer::State {
     glDeleteVertexArrays(3, vaos);
     glDeleteProgram(program);
     glDeleteProgram(textured_scene_program);
+    glDeleteProgram(faded_program);
+    glDeleteProgram(faded_textured_program);
     glDeleteProgram(proxy_program);
     glDeleteProgram(textured_program);
     glDeleteProgram(quad_program);
@@ -310,21 +322,30 @@ struct Renderer::State {
   }
 
   void draw_scene_batches(const std::vector<SceneBatch>& batches,
-                          const std::vector<DrawList::Tint>& tints) {
+                          const std::vector<DrawList::Tint>& tints, bool faded = false) {
+    const GLuint plain = faded ? faded_program : program;
+    const GLuint textured = faded ? faded_textured_program : textured_scene_program;
+    glUseProgram(plain);
     glm::vec4 current(0.0f);
+    glm::vec2 fade(-1.0f);
     for (const SceneBatch& b : batches) {
       glm::vec4 tint(0.0f);
       for (const DrawList::Tint& t : tints)
         if (t.mesh == b.mesh) tint = t.colour;
       if (tint != current) {
-        for (GLuint p : {program, textured_scene_program})
-          if (p) glProgramUniform4fv(p, 7, 1, &tint.x);
+        for (GLuint p : {plain, textured})
+          if (p) glProgramUniform4fv(p, kTintUniform, 1, &tint.x);
         current = tint;
+      }
+      if (faded && b.fade != fade) {
+        for (GLuint p : {plain, textured})
+          if (p) glProgramUniform2fv(p, kFadeUniform, 1, &b.fade.x);
+        fade = b.fade;
       }
       glBindVertexArray(b.vao);
       const int array = b.drawing.array;
       if (array >= 0) {  // the textured program samples this batch's array on unit 0
-        glUseProgram(textured_scene_program);
+        glUseProgram(textured);
         textures->bind(array);
       }
       if (b.drawing.double_sided) glDisable(GL_CULL_FACE);
@@ -333,14 +354,35 @@ struct Renderer::State {
           reinterpret_cast<const void*>(b.first_command * sizeof(DrawCommand)), GLsizei(b.count),
           0);
       if (b.drawing.double_sided && !culling_off) glEnable(GL_CULL_FACE);
-      if (array >= 0) glUseProgram(program);
+      if (array >= 0) glUseProgram(plain);
     }
     if (current != glm::vec4(0.0f)) {
       const glm::vec4 none(0.0f);
-      for (GLuint p : {program, textured_scene_program})
-        if (p) glProgramUniform4fv(p, 7, 1, &none.x);
+      for (GLuint p : {plain, textured})
+        if (p) glProgramUniform4fv(p, kTintUniform, 1, &none.x);
     }
+    glUseProgram(program);
     glBindVertexArray(vao);
+  }
+
+  // The commands and batches of DrawList::faded: runs of one coverage drawn as opaque ranges
+  // are, each batch carrying its coverage.
+  void add_faded_ranges(const std::vector<FadedRange>& faded) {
+    faded_batches.clear();
+    for (size_t i = 0; i < faded.size();) {
+      fade_group.clear();
+      size_t e = i;
+      for (; e < faded.size() && faded[e].coverage == faded[i].coverage &&
+             faded[e].complement == faded[i].complement;
+           ++e)
+        fade_group.push_back(faded[e].range);
+      add_scene_ranges(fade_group, fade_group_batches, true);
+      for (SceneBatch& b : fade_group_batches) {
+        b.fade = {std::clamp(faded[i].coverage, 0.0f, 1.0f), faded[i].complement ? 1.0f : 0.0f};
+        faded_batches.push_back(b);
+      }
+      i = e;
+    }
   }
 
   void reserve_commands(size_t count) {
@@ -477,7 +519,7 @@ struct Renderer::State {
     }
     glUseProgram(program);
     glBindVertexArray(vao);
-    for (GLuint p : {program, textured_scene_program})
+    for (GLuint p : scene_programs())
       if (p)
         glProgramUniformMatrix4fv(p, kViewProjectionUniform, 1, GL_FALSE,
                                   glm::value_ptr(view_projection));
@@ -690,9 +732,13 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
   glCreateVertexArrays(1, &s.vao);
 
   s.program = build_scene_program();
-  if (textured) s.textured_scene_program = build_textured_scene_program();
+  s.faded_program = build_scene_program(true);
+  if (textured) {
+    s.textured_scene_program = build_textured_scene_program();
+    s.faded_textured_program = build_textured_scene_program(true);
+  }
   const std::array<glm::vec3, 2> lights = light_directions();
-  for (GLuint p : {s.program, s.textured_scene_program}) {
+  for (GLuint p : s.scene_programs()) {
     if (!p) continue;
     glProgramUniform3fv(p, kLightDirUniform, 2, glm::value_ptr(lights[0]));
     glProgramUniform1f(p, kLightWeightUniform, kLightWeight);
@@ -744,6 +790,7 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
   s.add_scene_ranges(list.transparent, s.transparent_batches, false);
   s.add_indexed_runs(list, list.indexed_opaque, s.opaque_batches, true);
   s.add_indexed_runs(list, list.indexed_transparent, s.transparent_batches, false);
+  s.add_faded_ranges(list.faded);
   s.upload_scene_indices(list);
   const size_t scene_commands = s.commands.size();
   s.plan_meshes(list);  // its commands follow the scene's
@@ -755,6 +802,7 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
   s.begin_frame(view_projection, width, height, !list.draw_over);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, s.indirect_buffer);
   s.draw_scene_batches(s.opaque_batches, list.tints);
+  if (!s.faded_batches.empty()) s.draw_scene_batches(s.faded_batches, list.tints, true);
   uint64_t calls = scene_commands + s.draw_meshes(view_projection, list);
   // The backdrop behind everything opaque, under the transparent surfaces.
   s.draw_backdrop(view_projection, list);
@@ -957,7 +1005,7 @@ std::optional<uint32_t> Renderer::pick(const Scene& scene, const View& view, con
 
 void Renderer::set_light(float heading_deg, float elevation_deg) {
   const std::array<glm::vec3, 2> lights = light_directions(heading_deg, elevation_deg);
-  for (GLuint p : {state_->program, state_->textured_scene_program})
+  for (GLuint p : state_->scene_programs())
     if (p) glProgramUniform3fv(p, kLightDirUniform, 2, glm::value_ptr(lights[0]));
 }
 

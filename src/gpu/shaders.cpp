@@ -8,6 +8,24 @@ namespace farfield::gpu {
 
 namespace {
 
+constexpr const char* kFadeFunctions =
+    R"(// DrawList::faded: (coverage, complement); drawn wholly at (1, 0). A pixel is kept where the
+// 4 x 4 ordered-dither threshold is below the coverage (complement: at or above it).
+// Only the faded programs (FADED defined) discard: a discard anywhere in a shader costs
+// llvmpipe its early depth test for every draw.
+#ifdef FADED
+layout(location = 8) uniform vec2 fade = vec2(1.0, 0.0);
+bool faded_out() {
+  const float bayer[16] = float[16](0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5);
+  ivec2 p = ivec2(gl_FragCoord.xy) & 3;
+  bool below = (bayer[p.y * 4 + p.x] + 0.5) / 16.0 < fade.x;
+  return below == (fade.y != 0.0);
+}
+#else
+bool faded_out() { return false; }
+#endif
+)";
+
 // The material colour is an instanced attribute (divisor 1) read at the draw's baseInstance,
 // so every command of a multi-draw picks its material without gl_DrawID.
 constexpr const char* kVertexShader = R"(#version 450 core
@@ -37,6 +55,7 @@ in vec3 v_normal;
 in vec4 v_color;
 layout(location = 0) out vec4 frag_color;
 void main() {
+  if (faded_out()) discard;
   vec3 n = normalize(gl_FrontFacing ? v_normal : -v_normal);
   float light = ambient + light_weight * (max(dot(n, light_dir[0]), 0.0) +
                                           max(dot(n, light_dir[1]), 0.0));
@@ -96,6 +115,7 @@ float wrap(float t, int mode) {
 }
 void main() {
   vec2 dx = dFdx(v_texcoord), dy = dFdy(v_texcoord);
+  if (faded_out()) discard;
   vec4 c = v_color;
   {
     int modes = v_texturing.z;
@@ -230,12 +250,25 @@ GLuint link(const char* name, const char* vertex, const char* fragment) {
 
 }  // namespace
 
-GLuint build_scene_program() {
-  return link("scene", kVertexShader, kFragmentShader);
+namespace {
+
+// A scene fragment shader with kFadeFunctions after its #version line, FADED defined or not.
+std::string with_fade(const char* source, bool faded) {
+  std::string text = source;
+  text.insert(text.find('\n') + 1, std::string(faded ? "#define FADED\n" : "") + kFadeFunctions);
+  return text;
 }
 
-GLuint build_textured_scene_program() {
-  return link("textured scene", kTexturedSceneVertexShader, kTexturedSceneFragmentShader);
+}  // namespace
+
+GLuint build_scene_program(bool faded) {
+  return link(faded ? "faded scene" : "scene", kVertexShader,
+              with_fade(kFragmentShader, faded).c_str());
+}
+
+GLuint build_textured_scene_program(bool faded) {
+  return link(faded ? "faded textured scene" : "textured scene", kTexturedSceneVertexShader,
+              with_fade(kTexturedSceneFragmentShader, faded).c_str());
 }
 
 namespace {

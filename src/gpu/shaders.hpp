@@ -24,14 +24,17 @@ enum : GLint {
   kAmbientUniform = 4,         // float
   kOpacityUniform = 5,         // float, of a textured quad
   kPartUniform = 6,            // vec2 (offset, sign) of a textured quad: a signed difference's part
+  kTintUniform = 7,            // vec4 of the scene programs: DrawList::tints
+  kFadeUniform = 8,            // vec2 (coverage, complement) of the faded scene programs
 };
 
 // Compiles and links the scene shading program. A compile or link error is a programming
 // error: it asserts with the GL info log.
-GLuint build_scene_program();
+// `faded`: the variant of DrawList::faded, kFadeUniform choosing the pixels drawn.
+GLuint build_scene_program(bool faded = false);
 // The same for the textured materials of a scene with textures: texture coordinate (location
 // 4), the material's texturing (5, 6), the batch's texture array on unit 0.
-GLuint build_textured_scene_program();
+GLuint build_textured_scene_program(bool faded = false);
 // The unlit program of proxy geometry: position (location 0), colour (location 2), the
 // view-projection matrix at kViewProjectionUniform.
 GLuint build_proxy_program();

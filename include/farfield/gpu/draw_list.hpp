@@ -3,9 +3,10 @@
 // ranges by index range, technique meshes and textures by the handles the renderer gave out
 // (gpu/device.hpp). The renderer makes the `uploads`, `mesh_uploads` and `textured_mesh_uploads`
 // first, then draws `opaque` scene ranges (of the scene's buffers or of scene meshes: LODs, merged
-// meshes, lit like the scene), `meshes` (depth-tested, unlit, textured or not), the `backdrop`,
-// `transparent` scene ranges blended, and `lines` over the top, each in the order given. Capacity
-// is kept between frames: clear() does not free, but it does release the pixels the uploads held.
+// meshes, lit like the scene), `faded` ones, `meshes` (depth-tested, unlit, textured or not), the
+// `backdrop`, `transparent` scene ranges blended, and `lines` over the top, each in the order
+// given. Capacity is kept between frames: clear() does not free, but it does release the pixels the
+// uploads held.
 #pragma once
 
 #include <array>
@@ -76,6 +77,17 @@ struct TexturedMesh {
 // their indices into one draw: per-command cost dominates otherwise (thousands of cube-face
 // batches); at or below it each is a command of one multi-draw.
 inline constexpr size_t kMeshRangesPerCall = 64;
+
+// An opaque scene range drawn in part, so that two representations cross-fade over frames
+// (paper 001, Sec. 5.4, which blends them by transparency): a pixel is drawn where a 4 x 4
+// ordered-dither threshold is below `coverage`, or, with `complement`, at or above it, so that
+// a range faded in at c and another faded out (complement) at c cover every pixel once
+// between them, with no sorting and no blending. Drawn after the opaque ranges.
+struct FadedRange {
+  DrawRange range;
+  float coverage;  // in [0, 1]
+  bool complement = false;
+};
 
 // A range of a technique mesh's triangles, with a texture for a textured mesh (none for a
 // proxy mesh).
@@ -175,6 +187,7 @@ struct DrawList {
   std::vector<uint32_t> scene_indices;
   std::vector<uint32_t> scene_triangles;  // per triangle of scene_indices, its number (index / 3)
   std::vector<DrawRange> indexed_opaque, indexed_transparent;
+  std::vector<FadedRange> faded;
   std::vector<MeshDraw> meshes;
   std::vector<TextureUpload> uploads;
   std::vector<SceneMeshUpload> mesh_uploads;
@@ -204,6 +217,7 @@ struct DrawList {
     scene_triangles.clear();
     indexed_opaque.clear();
     indexed_transparent.clear();
+    faded.clear();
     meshes.clear();
     uploads.clear();
     mesh_uploads.clear();
@@ -222,6 +236,7 @@ struct DrawList {
     for (const auto& m : meshes) n += m.index_count / 3;
     for (const auto* ranges : {&opaque, &transparent, &indexed_opaque, &indexed_transparent})
       for (const auto& r : *ranges) n += r.index_count / 3;
+    for (const auto& f : faded) n += f.range.index_count / 3;
     return n;
   }
   // Of those, the technique meshes' (stand-ins: two per colour-cube face, LODs, ...).
@@ -231,6 +246,8 @@ struct DrawList {
     for (const auto* ranges : {&opaque, &transparent})
       for (const auto& r : *ranges)
         if (r.mesh) n += r.index_count / 3;
+    for (const auto& f : faded)
+      if (f.range.mesh) n += f.range.index_count / 3;
     return n;
   }
   // Bytes the uploads copy into GPU memory (those not yet made).

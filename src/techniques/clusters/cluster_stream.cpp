@@ -71,23 +71,10 @@ Result<std::unique_ptr<ClusterStream>> ClusterStream::create(const ChunkedScene&
   std::unique_ptr<ClusterStream> s(new ClusterStream(scene, lods, tree, boxes, atlas, device));
   s->averages_ = averages && !boxes.boxes.empty();
   const size_t nodes = tree.nodes.size();
-  s->parent_.assign(nodes, UINT32_MAX);
-  s->object_node_.assign(scene.index().objects.size(), 0);
-  for (uint32_t n = 0; n < nodes; ++n) {
-    const ClusterNode& node = tree.nodes[n];
-    for (uint32_t c = 0; c < node.child_count; ++c) s->parent_[node.first_child + c] = n;
-    for (uint32_t k = node.objects_begin; k < node.own_end; ++k)
-      s->object_node_[tree.objects[k]] = n;
-  }
-  s->box_node_.assign(boxes.boxes.size(), 0);
+  s->anchors_ = ChoiceAnchors(tree, boxes, scene.index().objects.size());
   s->box_object_.assign(boxes.boxes.size(), UINT32_MAX);
   for (uint32_t o = 0; o < boxes.object_box.size(); ++o)
-    if (const uint32_t b = boxes.object_box[o]; b != BoxSet::kNone) {
-      s->box_node_[b] = s->object_node_[o];
-      s->box_object_[b] = o;
-    }
-  for (uint32_t n = 0; n < boxes.node_box.size(); ++n)
-    if (boxes.node_box[n] != BoxSet::kNone) s->box_node_[boxes.node_box[n]] = n;
+    if (const uint32_t b = boxes.object_box[o]; b != BoxSet::kNone) s->box_object_[b] = o;
   s->standing_.assign(nodes, 0);
 
   // The top of the hierarchy, end to end as a whole load lays it out.
@@ -177,27 +164,12 @@ void ClusterStream::prefetch(std::span<const Choice> choices, const glm::vec3& e
   }
 }
 
-uint32_t ClusterStream::anchor(const Choice& c) const {
-  switch (c.kind) {
-    case Choice::Kind::cluster:
-      return c.index;
-    case Choice::Kind::lod:
-      return object_node_[lods_.lods[c.index].object];
-    case Choice::Kind::whole:
-      return object_node_[c.index];
-    case Choice::Kind::box:
-    case Choice::Kind::average:
-      return box_node_[c.index];
-  }
-  return 0;
-}
-
 uint32_t ClusterStream::tree_index_base(uint32_t page) const {
   return page < pinned_pages_ ? 0u : tree_.pages[page].first_index;
 }
 
 ClusterStream::StandIn ClusterStream::node_stand_in(uint32_t node, Placed& out) {
-  for (uint32_t n = node; n != UINT32_MAX; n = parent_[n]) {
+  for (uint32_t n = node; n != UINT32_MAX; n = anchors_.parent[n]) {
     if (tree_.nodes[n].clustered())
       if (auto mesh = resident_tree_page(tree_.node_page[n])) {
         out = {{Choice::Kind::cluster, n}, *mesh, tree_index_base(tree_.node_page[n])};
@@ -226,11 +198,12 @@ ClusterStream::StandIn ClusterStream::stand_in(const Choice& c, Placed& out) {
   uint32_t object = UINT32_MAX, finer_than = 0;
   switch (c.kind) {
     case Choice::Kind::cluster:
-      return c.index > 0 ? node_stand_in(parent_[c.index], out) : StandIn::none;
+      return c.index > 0 ? node_stand_in(anchors_.parent[c.index], out) : StandIn::none;
     case Choice::Kind::box:
       object = box_object_[c.index];
       if (object == UINT32_MAX)
-        return node_stand_in(box_node_[c.index], out);  // a node's box: its cluster, or above
+        return node_stand_in(anchors_.box_node[c.index],
+                             out);  // a node's box: its cluster, or above
       // An object's box: its average-colour box (coarser, always in memory), else its
       // coarsest resident level, else what stands in above it.
       if (averages_) {
@@ -242,7 +215,7 @@ ClusterStream::StandIn ClusterStream::stand_in(const Choice& c, Placed& out) {
           out = {{Choice::Kind::lod, k}, *mesh, lods_.pages[lods_.lod_page[k]].first_index};
           return StandIn::object;
         }
-      return node_stand_in(object_node_[object], out);
+      return node_stand_in(anchors_.object_node[object], out);
     case Choice::Kind::average:
       return StandIn::none;  // always drawable
     case Choice::Kind::lod:
@@ -270,11 +243,11 @@ ClusterStream::StandIn ClusterStream::stand_in(const Choice& c, Placed& out) {
     out = {{Choice::Kind::average, boxes_.object_box[object]}, {}, 0};
     return StandIn::object;
   }
-  return node_stand_in(object_node_[object], out);
+  return node_stand_in(anchors_.object_node[object], out);
 }
 
 bool ClusterStream::covered(uint32_t node, bool self) const {
-  for (uint32_t n = self ? node : parent_[node]; n != UINT32_MAX; n = parent_[n])
+  for (uint32_t n = self ? node : anchors_.parent[node]; n != UINT32_MAX; n = anchors_.parent[n])
     if (standing_[n]) return true;
   return false;
 }
@@ -306,12 +279,12 @@ uint64_t ClusterStream::place(std::span<const Choice> choices, const glm::vec3& 
     }
     if (mesh) {
       placed.mesh = *mesh;
-      candidates_.push_back({placed, anchor(c), StandIn::none});
+      candidates_.push_back({placed, anchors_.of(c, lods_), StandIn::none});
       continue;
     }
     ++stood_in;
     if (const StandIn kind = stand_in(c, placed); kind != StandIn::none)
-      candidates_.push_back({placed, anchor(placed.choice), kind});
+      candidates_.push_back({placed, anchors_.of(placed.choice, lods_), kind});
   }
   // A node standing in draws everything beneath it: what lies there goes. A node stands in
   // once, however many choices it stood in for.

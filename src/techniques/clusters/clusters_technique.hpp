@@ -20,6 +20,7 @@
 #include "farfield/techniques/clusters/cluster_tree.hpp"
 #include "farfield/techniques/clusters/frame_cost.hpp"
 #include "farfield/techniques/clusters/lod_set.hpp"
+#include "farfield/techniques/clusters/switch_fades.hpp"
 #include "farfield/techniques/clusters/upload_cost.hpp"
 #include "farfield/techniques/object_set.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
@@ -47,6 +48,7 @@ struct ClustersOptions {
   float average_px = 1.0f;  // boxes of subjects smaller on screen: average-colour boxes
   ClusterTraversal traversal = ClusterTraversal::refined;
   int hysteresis = 8;  // frames (paper 001, Sec. 4.6)
+  int blend_frames = 0;  // a switch cross-faded over this many frames (Sec. 5.4); 0: at once
   HysteresisRule hysteresis_rule = HysteresisRule::paper;
   bool wait = false;      // scene on disk: wait for the pages chosen (tests, references)
   int prefetch_frames = 15;  // scene on disk: ask for where the viewer will be; 0: not
@@ -101,6 +103,7 @@ class ClustersTechnique final : public Technique {
   gpu::OwnedResources resources_;
   MeshHandle lod_mesh_, cluster_mesh_;  // lods_ and tree_'s clusters as scene meshes
   std::unique_ptr<ClusterSelection> selection_;
+  std::unique_ptr<SwitchFades> fades_;  // blended switches, with the scene in memory
   std::unique_ptr<ObjectSet> full_;  // this frame's objects drawn whole
   std::vector<Choice> choices_;
   std::unique_ptr<ClusterStream> stream_;  // the scene on disk: meshes streamed, else null

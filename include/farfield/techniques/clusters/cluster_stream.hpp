@@ -14,12 +14,11 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <memory>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "farfield/gpu/device.hpp"
 #include "farfield/gpu/draw_list.hpp"
@@ -27,6 +26,7 @@
 #include "farfield/scene/chunked_scene.hpp"
 #include "farfield/techniques/clusters/box_atlas.hpp"
 #include "farfield/techniques/clusters/box_set.hpp"
+#include "farfield/techniques/clusters/choice_anchors.hpp"
 #include "farfield/techniques/clusters/cluster_selection.hpp"
 #include "farfield/techniques/clusters/cluster_tree.hpp"
 #include "farfield/techniques/clusters/lod_set.hpp"
@@ -99,7 +99,6 @@ class ClusterStream {
   StandIn stand_in(const Choice& choice, Placed& out);
   StandIn node_stand_in(uint32_t node, Placed& out);
   bool covered(uint32_t node, bool self) const;  // beneath (or at) a node standing in
-  uint32_t anchor(const Choice& choice) const;    // the node a choice lies at
 
   const ChunkedScene& scene_;
   const LodSet& lods_;
@@ -112,9 +111,7 @@ class ClusterStream {
   MeshHandle pinned_;          // tree pages [0, pinned_pages_), end to end
   uint32_t pinned_pages_ = 0;
   uint64_t pinned_bytes_ = 0;
-  std::vector<uint32_t> parent_;          // per node; the root's: UINT32_MAX
-  std::vector<uint32_t> object_node_;     // per object: the node whose own objects hold it
-  std::vector<uint32_t> box_node_;        // per box: the node it lies at
+  ChoiceAnchors anchors_;
   std::vector<uint32_t> box_object_;      // per box: its object; UINT32_MAX: a node's
   std::vector<uint8_t> standing_;        // per node: standing in this frame (2: placed)
   std::vector<uint32_t> standing_list_;  // those nodes
