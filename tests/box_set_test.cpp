@@ -17,6 +17,7 @@
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/clusters/average_boxes.hpp"
+#include "farfield/techniques/clusters/pseudo_maps.hpp"
 #include "test_util.hpp"
 
 namespace farfield {
@@ -176,16 +177,8 @@ TEST(BoxSetGL, TheBoxLooksLikeItsObject) {
   EXPECT_NEAR(double(sky), double(reference_sky), 0.02 * view.width * view.height);
 }
 
-// The cube's average-colour box from afar: its sides are wholly covered and evenly lit, so
-// that it looks like the cube as the textured box does.
-TEST(BoxSetGL, TheAverageBoxLooksLikeItsObjectToo) {
-  Bench b = baked_shapes();
-  if (!b.ok()) GTEST_SKIP() << b.skip;
-  const Scene& scene = b.scene;
-  const uint32_t box = b.boxes.object_box[0];
-  const AverageBox average =
-      average_box(b.boxes.boxes[box], b.boxes.pages[b.boxes.boxes[box].page], b.boxes.page_px);
-  for (const AverageSide& side : average.sides) EXPECT_EQ(side.coverage, 255);
+// The view of the cube the flat stand-ins are checked from.
+View cube_view() {
   View view;
   view.width = 160;
   view.height = 120;
@@ -193,24 +186,55 @@ TEST(BoxSetGL, TheAverageBoxLooksLikeItsObjectToo) {
   view.pose.position = {-3.0f, 3.0f, -6.0f};  // looking at the cube's centre
   view.pose.yaw_deg = 58.4f;
   view.pose.pitch_deg = -18.1f;
-  TexturedMesh mesh;
-  append_average_box(b.boxes.boxes[box], average, view.pose.position, mesh);
-  EXPECT_EQ(mesh.indices.size(), 18u);  // three sides face the eye
+  return view;
+}
+
+// The cube's frame against the frame of `mesh` (vertex colours, a white texture).
+ImageComparison cube_against(Bench& b, const TexturedMesh& mesh) {
+  const View view = cube_view();
   auto handle = b.renderer->create_textured_mesh(mesh.vertices, mesh.indices);
-  ASSERT_TRUE(handle);
+  FF_ASSERT(handle.ok(), "mesh");
   const TextureHandle white = b.renderer->create_texture();
   static constexpr uint8_t kWhite[4] = {255, 255, 255, 255};
   b.renderer->set_offscreen(view.width, view.height);
+  const Object& cube = b.scene.objects[0];
   DrawList list;
-  list.opaque.push_back(
-      {scene.objects[0].first_index, scene.objects[0].index_count, scene.objects[0].material, {}});
+  list.opaque.push_back({cube.first_index, cube.index_count, cube.material, {}});
   b.renderer->draw(view, list);
   const Image reference = b.renderer->capture();
   list.clear();
   list.uploads.push_back({white, 1, 1, 4, kWhite, nullptr});
   list.meshes.push_back({*handle, 0, uint32_t(mesh.indices.size()), white});
   b.renderer->draw(view, list);
-  const ImageComparison c = compare_images(reference, b.renderer->capture());
+  return compare_images(reference, b.renderer->capture());
+}
+
+// The cube's average-colour box from afar: its sides are wholly covered and evenly lit, so
+// that it looks like the cube as the textured box does.
+TEST(BoxSetGL, TheAverageBoxLooksLikeItsObjectToo) {
+  Bench b = baked_shapes();
+  if (!b.ok()) GTEST_SKIP() << b.skip;
+  const uint32_t box = b.boxes.object_box[0];
+  const AverageBox average =
+      average_box(b.boxes.boxes[box], b.boxes.pages[b.boxes.boxes[box].page], b.boxes.page_px);
+  for (const AverageSide& side : average.sides) EXPECT_EQ(side.coverage, 255);
+  TexturedMesh mesh;
+  append_average_box(b.boxes.boxes[box], average, cube_view().pose.position, mesh);
+  EXPECT_EQ(mesh.indices.size(), 18u);  // three sides face the eye
+  const ImageComparison c = cube_against(b, mesh);
+  EXPECT_GT(c.psnr_db, 25.0) << c.differing_pixels << " pixels differ";
+}
+
+// The cube's pseudo-texture box (its sides' images as quads of 8 x 8 texels at most): the
+// cube, evenly lit, looks the same.
+TEST(BoxSetGL, ThePseudoTextureBoxLooksLikeItsObjectToo) {
+  Bench b = baked_shapes();
+  if (!b.ok()) GTEST_SKIP() << b.skip;
+  const PseudoMaps maps = pseudo_maps(b.boxes, 8);
+  TexturedMesh mesh;
+  append_pseudo_box(b.boxes, maps, b.boxes.object_box[0], cube_view().pose.position, mesh);
+  EXPECT_GT(mesh.indices.size(), 3u * 6u * 16u);  // three sides of many texels
+  const ImageComparison c = cube_against(b, mesh);
   EXPECT_GT(c.psnr_db, 25.0) << c.differing_pixels << " pixels differ";
 }
 

@@ -110,6 +110,16 @@ constexpr SettingSpec kSettings[] = {
              "8% of frames over 1.1x the budget against 1.7%); 4 is the paper's smooth switch",
      .min = 0,
      .max = 64},
+    {.key = "pseudo_px",
+     .type = SettingType::integer,
+     .default_value = "0",
+     .help = "0: the textured boxes' images are textures; N: pseudo-texture maps instead (paper "
+             "001, Sec. 5.1: each side's image shrunk by a Gaussian to at most N texels a side, "
+             "a quad of its colour per texel covered at least half, for renderers without "
+             "texture mapping), with the scene in memory",
+     .unit = "px",
+     .min = 0,
+     .max = 64},
     {.key = "billboards",
      .type = SettingType::choice,
      .default_value = "trees",
@@ -309,6 +319,7 @@ const TechniqueDescriptor clusters_descriptor{
                    float(v.number("benefit_speed")), float(v.number("benefit_semantics"))};
       o.hysteresis = v.integer("hysteresis");
       o.blend_frames = v.integer("blend_frames");
+      o.pseudo_px = v.integer("pseudo_px");
       o.wait = v.flag("wait");
       o.prefetch_frames = v.integer("prefetch_frames");
       o.box_tile_px = v.integer("box_tile_px");
@@ -471,6 +482,10 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   lods_ = std::move(lods);
   tree_ = std::move(tree);
   boxes_ = std::move(boxes);
+  // Pseudo-texture maps from the pages, before the atlas takes them (in memory only).
+  pseudo_ = options_.pseudo_px > 0 && !boxes_.pages.empty()
+                ? pseudo_maps(boxes_, options_.pseudo_px)
+                : PseudoMaps{};
   // A pack baked before them: made from the pages where they are in memory (the atlas takes
   // them next), else none.
   averages_ =
@@ -504,7 +519,7 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
     if (!stream) return make_error("clusters: ", stream.error().message);
     stream_ = std::move(*stream);
   }
-  if (has_averages()) {  // made anew each frame from those chosen
+  if (has_averages() || !pseudo_.first.empty()) {  // made anew each frame from those chosen
     auto mesh = resources_.textured_mesh({}, {});
     if (!mesh) return make_error("clusters: ", mesh.error().message);
     average_mesh_ = *mesh;
@@ -723,7 +738,10 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
         }
         break;
       case Choice::Kind::box:
-        if (billboard_[c.index]) {
+        if (!pseudo_.first.empty()) {
+          ++boxes_drawn_;
+          pseudo_chosen_.push_back(c.index);
+        } else if (billboard_[c.index]) {
           ++billboards_drawn_;
           billboards_chosen_.push_back(c.index);
         } else {
@@ -788,14 +806,17 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   }
 }
 
-// The chosen average-colour boxes' front sides as one mesh of this frame, drawn with a white
-// texture (uploaded with every such list: 4 bytes); returns the draws (0 or 1).
+// The chosen average-colour boxes' and pseudo-texture boxes' front sides as one mesh of this
+// frame, drawn with a white texture (uploaded with every such list: 4 bytes); returns the
+// draws (0 or 1).
 size_t ClustersTechnique::add_averages(DrawList& out) {
-  if (averages_chosen_.empty()) return 0;
+  if (averages_chosen_.empty() && pseudo_chosen_.empty()) return 0;
   auto mesh = std::make_shared<TexturedMesh>();
   for (uint32_t b : averages_chosen_)
     append_average_box(boxes_.boxes[b], averages_[b], last_eye_, *mesh);
+  for (uint32_t b : pseudo_chosen_) append_pseudo_box(boxes_, pseudo_, b, last_eye_, *mesh);
   averages_chosen_.clear();
+  pseudo_chosen_.clear();
   if (mesh->indices.empty()) return 0;
   static constexpr uint8_t kWhite[4] = {255, 255, 255, 255};
   out.uploads.push_back({white_, 1, 1, 4, kWhite, nullptr});

@@ -20,6 +20,7 @@
 #include "farfield/techniques/clusters/cluster_tree.hpp"
 #include "farfield/techniques/clusters/frame_cost.hpp"
 #include "farfield/techniques/clusters/lod_set.hpp"
+#include "farfield/techniques/clusters/pseudo_maps.hpp"
 #include "farfield/techniques/clusters/switch_fades.hpp"
 #include "farfield/techniques/clusters/upload_cost.hpp"
 #include "farfield/techniques/object_set.hpp"
@@ -48,6 +49,7 @@ struct ClustersOptions {
   float average_px = 1.0f;  // boxes of subjects smaller on screen: average-colour boxes
   ClusterTraversal traversal = ClusterTraversal::refined;
   int hysteresis = 8;  // frames (paper 001, Sec. 4.6)
+  int pseudo_px = 0;   // > 0: the boxes drawn as pseudo-texture maps of at most this many texels
   int blend_frames = 0;  // a switch cross-faded over this many frames (Sec. 5.4); 0: at once
   HysteresisRule hysteresis_rule = HysteresisRule::paper;
   bool wait = false;      // scene on disk: wait for the pages chosen (tests, references)
@@ -86,9 +88,11 @@ class ClustersTechnique final : public Technique {
   BoxSet boxes_;         // without pixels: they are atlas_'s
   std::vector<AverageBox> averages_;  // one per box, or none
   std::vector<uint32_t> averages_chosen_;
+  PseudoMaps pseudo_;  // clusters.pseudo_px: the boxes' images as meshes; else empty
+  std::vector<uint32_t> pseudo_chosen_;
   std::vector<uint8_t> billboard_;  // per box: drawn as a billboard
   std::vector<uint32_t> billboards_chosen_;
-  MeshHandle average_mesh_;  // this frame's average-colour boxes
+  MeshHandle average_mesh_;  // this frame's average-colour and pseudo-texture boxes
   TextureHandle white_;
   AccuracyTable accuracy_;
   float accuracy_px_ = 0.0f;            // texels across a subject at the tables' finest comparison
