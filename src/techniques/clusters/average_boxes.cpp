@@ -76,13 +76,7 @@ void append_average_box(const TexturedBox& box, const AverageBox& average, const
     const glm::vec3 centre = c + du * r + dv * u;
     const glm::vec3 rs = scale * r, us = scale * u;
     const uint32_t colour = uint32_t(a.r) | uint32_t(a.g) << 8 | uint32_t(a.b) << 16 | 0xff000000u;
-    const uint32_t base = uint32_t(out.vertices.size());
-    const glm::vec2 uv(0.5f);
-    out.vertices.push_back({centre - rs + us, uv, colour});
-    out.vertices.push_back({centre - rs - us, uv, colour});
-    out.vertices.push_back({centre + rs - us, uv, colour});
-    out.vertices.push_back({centre + rs + us, uv, colour});
-    for (uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) out.indices.push_back(base + k);
+    append_quad(out, centre, rs, us, glm::vec2(0.5f), glm::vec2(0.5f), colour);
   }
 }
 

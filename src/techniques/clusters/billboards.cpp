@@ -52,12 +52,7 @@ void append_billboard(const TexturedBox& box, int texture_px, const glm::vec3& e
   const float texel = 1.0f / float(texture_px);
   const float u0 = float(s.x) * texel, v0 = float(s.y) * texel;
   const float u1 = float(s.x + s.w) * texel, v1 = float(s.y + s.h) * texel;
-  const uint32_t base = uint32_t(out.vertices.size());
-  out.vertices.push_back({centre - right + up, {u0, v0}, 0xffffffffu});  // top left
-  out.vertices.push_back({centre - right - up, {u0, v1}, 0xffffffffu});  // bottom left
-  out.vertices.push_back({centre + right - up, {u1, v1}, 0xffffffffu});  // bottom right
-  out.vertices.push_back({centre + right + up, {u1, v0}, 0xffffffffu});  // top right
-  for (uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) out.indices.push_back(base + k);
+  append_quad(out, centre, right, up, {u0, v0}, {u1, v1});
 }
 
 }  // namespace farfield

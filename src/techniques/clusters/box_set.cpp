@@ -156,6 +156,16 @@ BoxSideFrame box_side_frame(const Bounds3& box, int side) {
   return {box.center() + f.normal * (0.5f * e.depth), f.right * e.half_width, f.up * e.half_height};
 }
 
+void append_quad(TexturedMesh& mesh, const glm::vec3& centre, const glm::vec3& right,
+                 const glm::vec3& up, glm::vec2 uv0, glm::vec2 uv1, uint32_t colour) {
+  const uint32_t base = uint32_t(mesh.vertices.size());
+  mesh.vertices.push_back({centre - right + up, {uv0.x, uv0.y}, colour});  // top left
+  mesh.vertices.push_back({centre - right - up, {uv0.x, uv1.y}, colour});  // bottom left
+  mesh.vertices.push_back({centre + right - up, {uv1.x, uv1.y}, colour});  // bottom right
+  mesh.vertices.push_back({centre + right + up, {uv1.x, uv0.y}, colour});  // top right
+  for (uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(base + k);
+}
+
 uint32_t TexturedBox::side_count() const {
   uint32_t n = 0;
   for (const BoxSide& s : sides) n += s.w > 0;
@@ -348,12 +358,7 @@ TexturedMesh box_mesh(const BoxSet& set, std::span<const uint32_t> boxes,
       const auto [c, r, u] = box_side_frame(box.bounds, side);
       const float u0 = float(s.x) * texel, v0 = float(s.y) * texel;
       const float u1 = float(s.x + s.w) * texel, v1 = float(s.y + s.h) * texel;
-      const uint32_t base = uint32_t(mesh.vertices.size());
-      mesh.vertices.push_back({c - r + u, {u0, v0}, 0xffffffffu});  // top left
-      mesh.vertices.push_back({c - r - u, {u0, v1}, 0xffffffffu});  // bottom left
-      mesh.vertices.push_back({c + r - u, {u1, v1}, 0xffffffffu});  // bottom right
-      mesh.vertices.push_back({c + r + u, {u1, v0}, 0xffffffffu});  // top right
-      for (uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(base + k);
+      append_quad(mesh, c, r, u, {u0, v0}, {u1, v1});
     }
     index_count[i] = uint32_t(mesh.indices.size()) - first_index[i];
   }

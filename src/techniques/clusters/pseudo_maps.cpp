@@ -95,13 +95,8 @@ void append_pseudo_box(const BoxSet& set, const PseudoMaps& maps, uint32_t b, co
         const uint32_t t = maps.texels[first + uint32_t(y * w + x)];
         if ((t >> 24) < 128) continue;  // covered less than half
         const uint32_t colour = t | 0xff000000u;
-        const glm::vec3 p = top_left + float(x) * step_x + float(y) * step_y;
-        const uint32_t base = uint32_t(out.vertices.size());
-        out.vertices.push_back({p, uv, colour});
-        out.vertices.push_back({p + step_y, uv, colour});
-        out.vertices.push_back({p + step_x + step_y, uv, colour});
-        out.vertices.push_back({p + step_x, uv, colour});
-        for (uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) out.indices.push_back(base + k);
+        const glm::vec3 centre = top_left + (float(x) + 0.5f) * step_x + (float(y) + 0.5f) * step_y;
+        append_quad(out, centre, 0.5f * step_x, -0.5f * step_y, uv, uv, colour);
       }
   }
 }

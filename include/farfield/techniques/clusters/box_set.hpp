@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <span>
 #include <vector>
@@ -51,6 +52,11 @@ struct BoxSideFrame {
   glm::vec3 centre, right, up;
 };
 BoxSideFrame box_side_frame(const Bounds3& box, int side);
+
+// Appends the quad centre +- right +- up (counter-clockwise seen from right x up), its
+// corners from the top left at texture coordinates (u0, v0) to (u1, v1), all of `colour`.
+void append_quad(TexturedMesh& mesh, const glm::vec3& centre, const glm::vec3& right,
+                 const glm::vec3& up, glm::vec2 uv0, glm::vec2 uv1, uint32_t colour = 0xffffffffu);
 
 inline constexpr int kBoxGutterPx = 2;  // free texels beside each side, so that mipmaps bleed less
 
