@@ -7,6 +7,7 @@
 #include <random>
 
 #include "farfield/core/assert.hpp"
+#include "farfield/core/view.hpp"
 #include "farfield/eval/image_metrics.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/renderer.hpp"
@@ -400,7 +401,7 @@ TEST(FrameCostModel, FitsAFixedPartAndAPartPerTriangle) {
   EXPECT_EQ(model.triangles_within(10.0), 0.0);
   for (int i = 0; i < 40; ++i) {
     const double triangles = 10000.0 + 5000.0 * (i % 5);
-    model.observe(triangles, 100.0, 5.0 + 0.001 * triangles);
+    model.observe({triangles, 100.0}, 5.0 + 0.001 * triangles);
   }
   EXPECT_TRUE(model.separated());
   EXPECT_NEAR(model.fixed_ms(), 5.0, 1e-6);
@@ -411,12 +412,12 @@ TEST(FrameCostModel, FitsAFixedPartAndAPartPerTriangle) {
   // triangles at 15 to 35 ms: 1.25 ms per thousand), not nothing.
   EXPECT_NEAR(model.triangles_within(4.0), 4.0 / (25.0 / 20000.0), 200.0);
   FrameCostModel steady;
-  for (int i = 0; i < 10; ++i) steady.observe(20000.0, 50.0, 25.0);
+  for (int i = 0; i < 10; ++i) steady.observe({20000.0, 50.0}, 25.0);
   EXPECT_FALSE(steady.separated());  // one count: the technique then asks for more
   EXPECT_EQ(steady.fixed_ms(), 0.0);
   EXPECT_NEAR(steady.ms_per_triangle(), 25.0 / 20000.0, 1e-12);
-  EXPECT_NEAR(steady.predict_ms(20000.0, 50.0), 25.0, 1e-9);
-  steady.observe(0.0, 50.0, 3.0);  // nothing drawn says nothing: ignored
+  EXPECT_NEAR(steady.predict_ms({20000.0, 50.0}), 25.0, 1e-9);
+  steady.observe({0.0, 50.0}, 3.0);  // nothing drawn says nothing: ignored
   EXPECT_NEAR(steady.ms_per_triangle(), 25.0 / 20000.0, 1e-12);
 }
 
@@ -427,12 +428,12 @@ TEST(FrameCostModel, KeepsThePartsWhileTheRecentFramesHoldOneCount) {
   FrameCostModel model;
   for (int i = 0; i < 20; ++i) {
     const double triangles = 10000.0 + 10000.0 * (i % 4);
-    model.observe(triangles, 10.0, 9.0 + 0.0005 * triangles);
+    model.observe({triangles, 10.0}, 9.0 + 0.0005 * triangles);
   }
-  for (int i = 0; i < 60; ++i) model.observe(900.0, 2.0, 9.45);
+  for (int i = 0; i < 60; ++i) model.observe({900.0, 2.0}, 9.45);
   EXPECT_TRUE(model.separated());
   EXPECT_NEAR(model.ms_per_triangle(), 0.0005, 1e-4);
-  EXPECT_NEAR(model.predict_ms(900.0, 2.0), 9.45, 1e-6);
+  EXPECT_NEAR(model.predict_ms({900.0, 2.0}), 9.45, 1e-6);
   // Room for tens of thousands of triangles in 30 ms, not the 2,900 that charging 9.45 ms to
   // 900 triangles would allow.
   EXPECT_GT(model.triangles_within(30.0), 30000.0);
@@ -444,21 +445,85 @@ TEST(FrameCostModel, FitsAPartPerDrawWhereDrawsVaryOnTheirOwn) {
   FrameCostModel model;
   for (int i = 0; i < 60; ++i) {
     const double triangles = 10000.0 + 5000.0 * (i % 5), draws = 100.0 + 40.0 * (i % 7);
-    model.observe(triangles, draws, 5.0 + 0.001 * triangles + 0.02 * draws);
+    model.observe({triangles, draws}, 5.0 + 0.001 * triangles + 0.02 * draws);
   }
   EXPECT_NEAR(model.fixed_ms(), 5.0, 1e-6);
   EXPECT_NEAR(model.ms_per_triangle(), 0.001, 1e-9);
   EXPECT_NEAR(model.ms_per_draw(), 0.02, 1e-9);
   EXPECT_NEAR(model.triangles_per_draw(), 20.0, 1e-6);
-  EXPECT_NEAR(model.predict_ms(20000.0, 200.0), 29.0, 1e-6);
+  EXPECT_NEAR(model.predict_ms({20000.0, 200.0}), 29.0, 1e-6);
   // Triangles and draws in step: their parts cannot be told apart, the triangles take all.
   FrameCostModel together;
   for (int i = 0; i < 40; ++i) {
     const double triangles = 10000.0 + 5000.0 * (i % 5);
-    together.observe(triangles, triangles / 100.0, 5.0 + 0.002 * triangles);
+    together.observe({triangles, triangles / 100.0}, 5.0 + 0.002 * triangles);
   }
   EXPECT_EQ(together.ms_per_draw(), 0.0);
   EXPECT_NEAR(together.ms_per_triangle(), 0.002, 1e-9);
+}
+
+// Frames whose pixels vary apart from their triangles and draws give a part per pixel too
+// (a view turning from the sky to the city fills more of the screen at the same triangles);
+// a model without pixels leaves it out, and pixels that move with the triangles are left out
+// as well.
+TEST(FrameCostModel, FitsAPartPerPixelWherePixelsVaryOnTheirOwn) {
+  FrameCostModel model, without(false), together;
+  for (int i = 0; i < 80; ++i) {
+    const double triangles = 10000.0 + 5000.0 * (i % 5), draws = 100.0 + 40.0 * (i % 7),
+                 pixels = 2e5 + 3e5 * (i % 3);
+    const double ms = 4.0 + 0.001 * triangles + 0.02 * draws + 1e-5 * pixels;
+    model.observe({triangles, draws, pixels}, ms);
+    without.observe({triangles, draws, pixels}, ms);
+    together.observe({triangles, draws, 20.0 * triangles}, 4.0 + 0.001 * triangles + 0.02 * draws +
+                                                               1e-5 * 20.0 * triangles);
+  }
+  EXPECT_TRUE(model.separated());
+  EXPECT_NEAR(model.fixed_ms(), 4.0, 1e-6);
+  EXPECT_NEAR(model.ms_per_triangle(), 0.001, 1e-9);
+  EXPECT_NEAR(model.ms_per_draw(), 0.02, 1e-9);
+  EXPECT_NEAR(model.ms_per_pixel(), 1e-5, 1e-11);
+  EXPECT_NEAR(model.predict_ms({20000.0, 200.0, 5e5}), 4.0 + 20.0 + 4.0 + 5.0, 1e-6);
+  // What fits in 30 ms at 5e5 pixels: (30 - 4 - 5) / 0.001, draws counted as triangles.
+  EXPECT_NEAR(model.triangles_within(30.0, 5e5), 21000.0, 1e-3);
+  EXPECT_EQ(without.ms_per_pixel(), 0.0);
+  EXPECT_EQ(without.predict_ms({20000.0, 200.0, 5e5}), without.predict_ms({20000.0, 200.0, 0.0}));
+  // In step with the triangles: a part per triangle alone explains them.
+  EXPECT_EQ(together.ms_per_pixel(), 0.0);
+  EXPECT_NEAR(together.ms_per_triangle(), 0.001 + 20.0 * 1e-5, 1e-9);
+  // A part that would be negative is left out rather than fitted.
+  FrameCostModel negative;
+  for (int i = 0; i < 80; ++i) {
+    const double triangles = 10000.0 + 5000.0 * (i % 5), pixels = 2e5 + 3e5 * (i % 3);
+    negative.observe({triangles, 100.0, pixels}, 30.0 + 0.001 * triangles - 2e-5 * pixels);
+  }
+  EXPECT_EQ(negative.ms_per_pixel(), 0.0);
+  EXPECT_GT(negative.ms_per_triangle(), 0.0);
+}
+
+// A box's pixels: its bounding rectangle on screen, clipped to the view; all of the view where
+// it reaches behind the eye; none where it is off screen.
+TEST(FrameCostModel, ProjectedPixelsAreTheBoxOnScreen) {
+  View view;
+  view.width = 200;
+  view.height = 100;
+  view.hfov_deg = 90.0f;
+  view.pose.position = glm::vec3(0.0f);
+  const glm::mat4 vp = view.projection_matrix() * view.view_matrix();
+  const glm::vec3 ahead = view.pose.forward();
+  // A cube 2 m across, 10 m ahead: 2 / (2 * 10 * tan 45) of the width across, square pixels.
+  const glm::vec3 centre = ahead * 11.0f;
+  const Bounds3 cube{centre - glm::vec3(1.0f), centre + glm::vec3(1.0f)};
+  const double across = 200.0 * 2.0 / (2.0 * 10.0);  // its near face, the largest
+  EXPECT_NEAR(projected_pixels(cube, vp, 200, 100), across * across, 0.05 * across * across);
+  const Bounds3 around{glm::vec3(-1.0f), glm::vec3(1.0f)};
+  EXPECT_EQ(projected_pixels(around, vp, 200, 100), 200.0 * 100.0);
+  const Bounds3 behind{-ahead * 11.0f - glm::vec3(1.0f), -ahead * 11.0f + glm::vec3(1.0f)};
+  EXPECT_EQ(projected_pixels(behind, vp, 200, 100), 200.0 * 100.0);  // cannot tell: all
+  const glm::vec3 side = glm::normalize(glm::cross(ahead, glm::vec3(0, 1, 0)));
+  const Bounds3 beside{ahead * 5.0f + side * 50.0f - glm::vec3(1.0f),
+                       ahead * 5.0f + side * 50.0f + glm::vec3(1.0f)};
+  EXPECT_EQ(projected_pixels(beside, vp, 200, 100), 0.0);
+  EXPECT_EQ(projected_pixels(Bounds3{}, vp, 200, 100), 0.0);
 }
 
 }  // namespace

@@ -110,6 +110,13 @@ constexpr SettingSpec kSettings[] = {
              "8% of frames over 1.1x the budget against 1.7%); 4 is the paper's smooth switch",
      .min = 0,
      .max = 64},
+    {.key = "cost_pixels",
+     .type = SettingType::flag,
+     .default_value = "0",
+     .help = "under a budget, the cost model has a part per pixel covered (the chosen "
+             "representations' bounds on screen, estimated before drawing) beside its fixed "
+             "part and its parts per triangle and per draw; 0: triangles and draws alone (the "
+             "previous release's model)"},
     {.key = "pseudo_px",
      .type = SettingType::integer,
      .default_value = "0",
@@ -319,6 +326,7 @@ const TechniqueDescriptor clusters_descriptor{
                    float(v.number("benefit_speed")), float(v.number("benefit_semantics"))};
       o.hysteresis = v.integer("hysteresis");
       o.blend_frames = v.integer("blend_frames");
+      o.cost_pixels = v.flag("cost_pixels");
       o.pseudo_px = v.integer("pseudo_px");
       o.wait = v.flag("wait");
       o.prefetch_frames = v.integer("prefetch_frames");
@@ -561,7 +569,8 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   averages_drawn_ = billboards_drawn_ = 0;
   selection_ms_.clear();
   coarser_frames_ = stood_in_ = 0;
-  cost_ = {};
+  cost_ = FrameCostModel(options_.cost_pixels);
+  last_pixels_ = 0.0;
   last_needed_ = INFINITY;
   probe_triangles_ = 0.0;
   upload_cost_ = {};
@@ -619,7 +628,8 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   // its uploads, and a frame's budget is what its foreseen uploads leave.
   if (!upload_frame_) {
     upload_cost_.observe(last_upload_bytes_, input.budget.last_upload_ms);
-    cost_.observe(double(input.budget.last_triangles), double(input.budget.last_draw_calls),
+    cost_.observe({double(input.budget.last_triangles), double(input.budget.last_draw_calls),
+                   last_pixels_},
                   input.budget.last_frame_ms - input.budget.last_upload_ms);
     budget_target_.observe(last_predicted_ms_, input.budget.last_frame_ms);
   }
@@ -645,7 +655,9 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
         0.0, budget_target_.target_ms(input.budget.target_ms) - upload_cost_.predict_ms(foreseen));
     sv.max_triangles = 0.0;
     if (cost_.ready()) {
-      sv.max_triangles = cost_.triangles_within(target_ms);
+      // The pixels this frame will cover are known only once it is chosen: the last frame's
+      // (a refinement draws over about the pixels of what it refines).
+      sv.max_triangles = cost_.triangles_within(target_ms, last_pixels_);
       // Frames of one count cannot tell the fixed part from the triangles' (the model then
       // charges all to the triangles, and the 892 triangles of the 10M city's root cluster at
       // 5 us each never afford a refinement): while the last frame was under the budget, ask
@@ -797,13 +809,43 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
                            atlas_->add_billboards(billboards_chosen_, last_eye_, out) +
                            add_averages(out);
   last_upload_bytes_ = out.upload_bytes();
+  last_pixels_ = covered_pixels(view);
   if (cost_.ready()) {
-    out.predicted_ms = cost_.predict_ms(double(stats.triangles + faded_out_triangles),
-                                        double(out.opaque.size() + out.transparent.size() +
-                                               out.faded.size() + box_draws)) +
-                       upload_cost_.predict_ms(last_upload_bytes_);
+    out.predicted_ms =
+        cost_.predict_ms({double(stats.triangles + faded_out_triangles),
+                          double(out.opaque.size() + out.transparent.size() + out.faded.size() +
+                                 box_draws),
+                          last_pixels_}) +
+        upload_cost_.predict_ms(last_upload_bytes_);
     last_predicted_ms_ = out.predicted_ms;
   }
+}
+
+Bounds3 ClustersTechnique::bounds_of(const Choice& c) const {
+  switch (c.kind) {
+    case Choice::Kind::cluster:
+      return tree_.nodes[c.index].bounds;
+    case Choice::Kind::lod:
+      return scene_->objects[lods_.lods[c.index].object].bounds;
+    case Choice::Kind::whole:
+      return scene_->objects[c.index].bounds;
+    case Choice::Kind::box:
+    case Choice::Kind::average:
+      return boxes_.boxes[c.index].bounds;
+  }
+  return {};
+}
+
+double ClustersTechnique::covered_pixels(const View& view) const {
+  if (!options_.cost_pixels) return 0.0;
+  const glm::mat4 view_projection = view.projection_matrix() * view.view_matrix();
+  double pixels = 0.0;
+  for (const ClusterStream::Placed& p : placed_)
+    pixels += projected_pixels(bounds_of(p.choice), view_projection, view.width, view.height);
+  if (fades_)
+    for (const SwitchFades::Out& o : fades_->fading_out())
+      pixels += projected_pixels(bounds_of(o.choice), view_projection, view.width, view.height);
+  return pixels;
 }
 
 // The chosen average-colour boxes' and pseudo-texture boxes' front sides as one mesh of this
@@ -907,7 +949,8 @@ std::vector<std::pair<std::string, double>> ClustersTechnique::figures() const {
       {"switches", double(switches_)},
       {"cost_fixed_ms", cost_.fixed_ms()},
       {"cost_ms_per_triangle", cost_.ms_per_triangle()},
-      {"cost_ms_per_draw", cost_.ms_per_draw()}};
+      {"cost_ms_per_draw", cost_.ms_per_draw()},
+      {"cost_ms_per_megapixel", cost_.ms_per_pixel() * 1e6}};
   if (stream_) {
     const gpu::MeshPoolCounters& c = stream_->counters();
     figures.insert(figures.end(), {{"cache_hits", double(c.hits)},

@@ -51,6 +51,7 @@ struct ClustersOptions {
   int hysteresis = 8;  // frames (paper 001, Sec. 4.6)
   int pseudo_px = 0;   // > 0: the boxes drawn as pseudo-texture maps of at most this many texels
   int blend_frames = 0;  // a switch cross-faded over this many frames (Sec. 5.4); 0: at once
+  bool cost_pixels = false;  // the cost model has a part per pixel covered (frame_cost.hpp)
   HysteresisRule hysteresis_rule = HysteresisRule::paper;
   bool wait = false;      // scene on disk: wait for the pages chosen (tests, references)
   int prefetch_frames = 15;  // scene on disk: ask for where the viewer will be; 0: not
@@ -78,6 +79,10 @@ class ClustersTechnique final : public Technique {
                    AccuracyTable accuracy, const LoadContext& context);
   void place(DrawList& out);
   size_t add_averages(DrawList& out);
+  // The pixels this frame's drawn choices (and those fading out) cover on screen, overlaps
+  // counted as often as they overlap (projected_pixels of their bounds).
+  double covered_pixels(const View& view) const;
+  Bounds3 bounds_of(const Choice& choice) const;
   bool has_averages() const { return !averages_.empty(); }
 
   ClustersOptions options_;
@@ -124,6 +129,7 @@ class ClustersTechnique final : public Technique {
   FrameCostModel cost_;  // budget mode: fitted to measured frames, less their uploads
   UploadCost upload_cost_;
   UploadBytes last_upload_bytes_;  // the last frame's list's
+  double last_pixels_ = 0.0;       // the last frame's choices on screen (projected_pixels)
   // figures()
   uint64_t frames_ = 0, clusters_drawn_ = 0, lods_drawn_ = 0, full_drawn_ = 0, visited_ = 0;
   std::vector<double> selection_ms_;  // the hierarchy's traversal alone, each frame
