@@ -372,12 +372,30 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     heap_.push_back({key(items_[id]), id});
     std::push_heap(heap_.begin(), heap_.end());
   };
+  // An item refined that still comes first (its key and number above the heap's top, as the
+  // heap orders them) is taken again at once instead of pushed and popped: the same order
+  // without the heap's work for each level of an object refined several levels in a row.
+  uint32_t again = kNone;
+  auto push_refined = [&](uint32_t id) {
+    if (!refinable(items_[id])) return;
+    const std::pair<float, uint32_t> entry{key(items_[id]), id};
+    if (heap_.empty() || heap_.front() < entry) {
+      again = id;
+      return;
+    }
+    heap_.push_back(entry);
+    std::push_heap(heap_.begin(), heap_.end());
+  };
   double cost = open(0, nullptr, true, items_);
   for (uint32_t id = 0; id < items_.size(); ++id) push(id);
-  while (!heap_.empty()) {
-    std::pop_heap(heap_.begin(), heap_.end());
-    const uint32_t id = heap_.back().second;
-    heap_.pop_back();
+  while (again != kNone || !heap_.empty()) {
+    uint32_t id = again;
+    again = kNone;
+    if (id == kNone) {
+      std::pop_heap(heap_.begin(), heap_.end());
+      id = heap_.back().second;
+      heap_.pop_back();
+    }
     Item& item = items_[id];
     if (item.slot == kNone) {
       const ClusterNode& node = tree_.nodes[item.node];
@@ -396,7 +414,7 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
         item.level = 0;
         item.triangles = node.triangles;
         item.cost = mesh_cost;
-        push(id);
+        push_refined(id);
         continue;
       }
       opened_.clear();
@@ -463,7 +481,7 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     item.level = finer;
     item.triangles = triangles;
     item.cost += more;
-    push(id);
+    push_refined(id);
   }
   for (const Item& item : items_) {
     if (!item.live) continue;
