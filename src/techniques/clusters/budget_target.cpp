@@ -15,7 +15,7 @@ void BudgetTarget::observe(double predicted_ms, double measured_ms) {
 double BudgetTarget::target_ms(double budget_ms) const {
   if (count_ < kFewest) return 0.9 * budget_ms;
   std::array<double, kFrames> sorted = ratios_;
-  const auto q = sorted.begin() + std::ptrdiff_t(std::floor(kQuantile * double(count_ - 1)));
+  const auto q = sorted.begin() + std::ptrdiff_t(std::floor(quantile_ * double(count_ - 1)));
   std::nth_element(sorted.begin(), q, sorted.begin() + std::ptrdiff_t(count_));
   return budget_ms * std::clamp(1.1 / std::max(*q, 1e-3), 0.6, 0.95);
 }

@@ -217,6 +217,14 @@ constexpr SettingSpec kSettings[] = {
      .help = "refined: visit only the nodes refined and their children; paper: first look at "
              "every node and object (paper 001, Sec. 4.5.1, O(n) a frame)",
      .choices = "refined|paper"},
+    {.key = "over_share",
+     .type = SettingType::number,
+     .default_value = "0.03",
+     .help = "under a budget, the share of frames the aim lets run over 1.1x the budget: frames "
+             "aim at 1.1x the budget over this quantile from the top of the last 128 frames' "
+             "measured / predicted times (budget_target.hpp)",
+     .min = 0.005,
+     .max = 0.5},
     {.key = "hysteresis",
      .type = SettingType::integer,
      .default_value = "8",
@@ -325,6 +333,7 @@ const TechniqueDescriptor clusters_descriptor{
       o.benefit = {float(v.number("benefit_size")), float(v.number("benefit_focus")),
                    float(v.number("benefit_speed")), float(v.number("benefit_semantics"))};
       o.hysteresis = v.integer("hysteresis");
+      o.over_share = v.number("over_share");
       o.blend_frames = v.integer("blend_frames");
       o.cost_pixels = v.flag("cost_pixels");
       o.pseudo_px = v.integer("pseudo_px");
@@ -570,6 +579,7 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   selection_ms_.clear();
   coarser_frames_ = stood_in_ = 0;
   cost_ = FrameCostModel(options_.cost_pixels);
+  budget_target_ = BudgetTarget(options_.over_share);
   last_pixels_ = 0.0;
   last_needed_ = INFINITY;
   probe_triangles_ = 0.0;
