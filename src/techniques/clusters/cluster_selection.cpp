@@ -1,6 +1,7 @@
 #include "farfield/techniques/clusters/cluster_selection.hpp"
 
 #include <algorithm>
+#include <bit>
 
 #include <glm/geometric.hpp>
 
@@ -367,9 +368,13 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
   // Paper 001, Sec. 4.5.2: the most beneficial refined first (the benefit 1 without weights).
   auto key = [&](const Item& item) { return error_px(item) * item.benefit; };
   auto refinable = [&](const Item& item) { return item.slot == kNone || item.level != kWhole; };
+  // Non-negative floats order as their bits do; adding 0 turns a -0 into +0.
+  auto entry = [&](uint32_t id) {
+    return uint64_t(std::bit_cast<uint32_t>(key(items_[id]) + 0.0f)) << 32 | id;
+  };
   auto push = [&](uint32_t id) {
     if (!refinable(items_[id])) return;
-    heap_.push_back({key(items_[id]), id});
+    heap_.push_back(entry(id));
     std::push_heap(heap_.begin(), heap_.end());
   };
   // An item refined that still comes first (its key and number above the heap's top, as the
@@ -378,12 +383,12 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
   uint32_t again = kNone;
   auto push_refined = [&](uint32_t id) {
     if (!refinable(items_[id])) return;
-    const std::pair<float, uint32_t> entry{key(items_[id]), id};
-    if (heap_.empty() || heap_.front() < entry) {
+    const uint64_t e = entry(id);
+    if (heap_.empty() || heap_.front() < e) {
       again = id;
       return;
     }
-    heap_.push_back(entry);
+    heap_.push_back(e);
     std::push_heap(heap_.begin(), heap_.end());
   };
   double cost = open(0, nullptr, true, items_);
@@ -393,7 +398,7 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     again = kNone;
     if (id == kNone) {
       std::pop_heap(heap_.begin(), heap_.end());
-      id = heap_.back().second;
+      id = uint32_t(heap_.back());
       heap_.pop_back();
     }
     Item& item = items_[id];
