@@ -57,11 +57,6 @@ void OcclusionMap::reset(const View& view, int texel_px) {
   levels_ = 0;
 }
 
-glm::vec2 OcclusionMap::to_texels(const glm::vec3& p) const {
-  const float depth = -p.z;
-  return {0.5f * texels_x_ + scale_x_ * p.x / depth, 0.5f * texels_y_ + scale_y_ * p.y / depth};
-}
-
 void OcclusionMap::add_box(const Bounds3& box) {
   if (box.empty() || depth_.empty()) return;
   ++occluders_;
@@ -268,12 +263,19 @@ void OcclusionMap::fill_centres(const glm::vec2* poly, int count, const glm::vec
 
 bool OcclusionMap::hidden(const Bounds3& box) const {
   if (box.empty() || depth_.empty()) return false;
+  // The corners in view space from one of them and the box's edges along the view matrix's
+  // columns (the matrix is affine): one product instead of eight.
+  const glm::vec3 origin = glm::vec3(view_matrix_ * glm::vec4(box.min, 1.0f));
+  const glm::vec3 size = box.max - box.min;
+  const glm::vec3 ex = glm::vec3(view_matrix_[0]) * size.x, ey = glm::vec3(view_matrix_[1]) * size.y,
+                  ez = glm::vec3(view_matrix_[2]) * size.z;
   float nearest = kInf;
   glm::vec2 lo(kInf), hi(-kInf);
   for (int k = 0; k < 8; ++k) {
-    const glm::vec3 corner((k & 1) ? box.max.x : box.min.x, (k & 2) ? box.max.y : box.min.y,
-                           (k & 4) ? box.max.z : box.min.z);
-    const glm::vec3 p = glm::vec3(view_matrix_ * glm::vec4(corner, 1.0f));
+    glm::vec3 p = origin;
+    if (k & 1) p += ex;
+    if (k & 2) p += ey;
+    if (k & 4) p += ez;
     const float depth = -p.z;
     if (!(depth >= near_)) return false;  // crosses the near plane: cannot tell
     nearest = std::min(nearest, depth);

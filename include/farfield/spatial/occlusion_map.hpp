@@ -50,7 +50,10 @@ class OcclusionMap {
 
  private:
   // Texel coordinates of a view-space point in front of the near plane.
-  glm::vec2 to_texels(const glm::vec3& view_point) const;
+  glm::vec2 to_texels(const glm::vec3& p) const {
+    const float depth = -p.z;
+    return {0.5f * texels_x_ + scale_x_ * p.x / depth, 0.5f * texels_y_ + scale_y_ * p.y / depth};
+  }
   // A convex polygon of up to four corners in view space, in order.
   void fill_polygon(const glm::vec3* corners, int count);
   // At texel_px 1: the pixel centres inside the projected polygon `poly` of the plane n.p = c.

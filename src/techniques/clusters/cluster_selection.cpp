@@ -313,10 +313,16 @@ double ClusterSelection::open(uint32_t first, const Seen* first_seen, bool use_c
     const auto [n, parent_in_frustum] = stack_.back();
     stack_.pop_back();
     const ClusterNode& node = tree_.nodes[n];
+    __builtin_prefetch(&slots_[node.objects_begin]);  // seen next, if the node is
     const Seen seen = n == first && first_seen ? *first_seen : see_node(n, parent_in_frustum);
     if (!seen.visible) continue;
     if ((use_cluster || n != first) && node.clustered() && seen.clusterable) {
       const uint32_t box = node_box(n);
+      if (const AccuracyTable* a = view_->accuracy) {  // read by the budget pass, as above
+        const size_t dirs = a->directions.size();
+        __builtin_prefetch(&a->node_error[size_t(n) * dirs + seen.direction]);
+        if (box != BoxSet::kNone) __builtin_prefetch(&a->box_error[size_t(box) * dirs + seen.direction]);
+      }
       const uint64_t triangles = box != BoxSet::kNone ? node_slots_[n].box_triangles : node.triangles;
       const double cost = box != BoxSet::kNone
                               ? double(triangles)
@@ -335,6 +341,16 @@ double ClusterSelection::open(uint32_t first, const Seen* first_seen, bool use_c
       const uint32_t level = slot.box != BoxSet::kNone   ? kBox
                              : slot.lod_end > slot.first_lod ? slot.lod_end - 1
                                                              : kWhole;
+      if (const AccuracyTable* a = view_->accuracy) {
+        // Fetched while the rest of the node is seen: the budget pass reads an object's
+        // errors at its direction level by level, a line apart, and after a frame's drawing
+        // none are cached.
+        const size_t dirs = a->directions.size();
+        for (uint32_t l = slot.first_lod; l < slot.lod_end; ++l)
+          __builtin_prefetch(&a->lod_error[size_t(l) * dirs + o.direction]);
+        if (slot.box != BoxSet::kNone) __builtin_prefetch(&a->box_error[size_t(slot.box) * dirs + o.direction]);
+      }
+      if (slot.lod_end > slot.first_lod) __builtin_prefetch(&lods_.lods[slot.first_lod]);
       const uint64_t triangles = object_triangles(k, level);
       const double cost = double(triangles) + (level == kBox ? 0.0 : per_draw);
       into.push_back({n, k, level, o.direction, o.distance,
