@@ -136,6 +136,7 @@ TEST(BenchGL, ReportsTheBudgetAndPredictedFrameTimes) {
   options.warmup_frames = 0;
   options.budget_ms = 50;
   options.plot = false;
+  options.noise_floor = true;
   auto report = run_bench(*city, *path, options, quiet);
   ASSERT_TRUE(report) << report.error().message;
   const auto json = nlohmann::json::parse(test::read_file(dir.file("out/bench.json")));
@@ -164,9 +165,39 @@ TEST(BenchGL, ReportsTheBudgetAndPredictedFrameTimes) {
     EXPECT_NEAR(double(clusters["summary"]["psnr_db_pooled"]),
                 10.0 * std::log10(255.0 * 255.0 * compared / mse), 1e-6);
   }
+  // The noise floor: one round per path frame, of the budget's length.
+  const auto& noise = json["noise_floor"];
+  EXPECT_EQ(noise["rounds"], 10);
+  EXPECT_EQ(noise["work_ms"], 50.0);
+  EXPECT_GE(noise["threads"], 1);
+  EXPECT_GT(noise["median_ms"], 5.0);
+  EXPECT_LT(noise["median_ms"], 1000.0);
+  EXPECT_GE(noise["p99_to_median"], 1.0);
+  EXPECT_GE(noise["over_1_1x"], 0.0);
+  EXPECT_LE(noise["over_1_1x"], 1.0);
   const std::string table = format_bench_summary(*report);
   EXPECT_NE(table.find("over_1.1x"), std::string::npos) << table;
   EXPECT_NE(table.find("pred_err"), std::string::npos) << table;
+  EXPECT_NE(table.find("noise floor"), std::string::npos) << table;
+}
+
+TEST(TimingNoise, TimesEachRoundOfAWorkloadCalibratedToItsLength) {
+  const TimingNoise n = measure_timing_noise(4.0, 25, 2);
+  EXPECT_EQ(n.rounds, 25u);
+  EXPECT_EQ(n.threads, 2u);
+  EXPECT_EQ(n.work_ms, 4.0);
+  // Calibrated on the least disturbed of three rounds: about the length asked, even on a
+  // loaded machine within a factor of a few.
+  EXPECT_GT(n.median_ms, 1.0);
+  EXPECT_LT(n.median_ms, 40.0);
+  EXPECT_GE(n.p99_to_median, 1.0);
+  EXPECT_GE(n.over_1_1x, 0.0);
+  EXPECT_LE(n.over_1_1x, 1.0);
+  EXPECT_GE(measure_timing_noise(1.0, 3).threads, 1u);  // 0 threads: one per core
+  // Out of range: held to (0.1 ms, 1 s] and at least one round.
+  const TimingNoise tiny = measure_timing_noise(0.0, 0, 1);
+  EXPECT_EQ(tiny.rounds, 1u);
+  EXPECT_EQ(tiny.work_ms, 0.1);
 }
 
 TEST(Bench, RefusesBadOptionsBeforeRendering) {

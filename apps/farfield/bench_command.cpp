@@ -85,6 +85,10 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_flag("--pipelined", s->bench.pipelined,
                 "Run each technique's path a second time with selection one frame ahead on a "
                 "second thread; report its frame time and latency beside the first run's");
+  cmd->add_flag("--noise-floor", s->bench.noise_floor,
+                "Before the techniques, time a fixed workload of the budget's length (30 ms "
+                "without one) on every core once per path frame, and report its share of "
+                "rounds over 1.1x its median: the machine's own noise, under any technique's");
   cmd->add_option("--cache-mb", s->bench.cache_mb,
                   "Leave the scene's geometry in its file and walk it through a cache of this "
                   "many MB of GPU meshes, read on demand on a background thread: scenes larger "

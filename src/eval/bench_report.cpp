@@ -45,6 +45,10 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
   root["interleaved"] = report.interleaved;
   root["brute"] = options.brute;
   root["pipelined"] = report.pipelined;
+  if (const auto& n = report.noise_floor)
+    root["noise_floor"] = {{"work_ms", n->work_ms},           {"rounds", n->rounds},
+                           {"threads", n->threads},           {"median_ms", n->median_ms},
+                           {"p99_to_median", n->p99_to_median}, {"over_1_1x", n->over_1_1x}};
   root["techniques"] = json::array();
   const TechniqueRecord* brute = find_brute(report);
   for (const TechniqueRecord& t : report.techniques) {
@@ -192,6 +196,14 @@ std::string format_bench_summary(const BenchReport& report) {
       "geometry (outside its bake; docs/bench.md); over_1.1x: frames over 1.1 x the budget; "
       "pred_err: median |predicted - measured| / measured frame time, where the technique "
       "predicts it\n";
+  if (const auto& n = report.noise_floor) {
+    std::snprintf(line, sizeof(line),
+                  "noise floor: a fixed %.1f ms workload on %u threads, %u rounds: median %.2f "
+                  "ms, %.1f%% over 1.1x it, p99 %.2fx (the machine's own, under any technique's)\n",
+                  n->work_ms, n->threads, n->rounds, n->median_ms, 100.0 * n->over_1_1x,
+                  n->p99_to_median);
+    out += line;
+  }
   if (fell_back)
     out +=
         "(most): the technique fell back on most frames, so its figures are mostly plain "

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "farfield/core/progress.hpp"
 #include "farfield/core/result.hpp"
 #include "farfield/scene/scene.hpp"
+#include "farfield/eval/timing_noise.hpp"
 #include "farfield/gpu/lighting.hpp"
 #include "farfield/techniques/technique_descriptor.hpp"
 
@@ -49,6 +51,9 @@ struct BenchOptions {
   // After each technique's run, the path again with selection one frame ahead on a second
   // thread (FrameLoop::run_pipelined); its figures beside the first run's.
   bool pipelined = false;
+  // Before the techniques, the machine's own noise (timing_noise.hpp): a fixed workload of the
+  // budget's length (30 ms without one) on every core, timed once per path frame.
+  bool noise_floor = false;
   // > 0: the scene's geometry stays in its file (run_bench's `on_disk`) and the techniques
   // walk it through a cache of this many MB of GPU meshes (--cache-mb).
   uint64_t cache_mb = 0;
@@ -91,6 +96,7 @@ struct BenchReport {
   bool interleaved = false, pipelined = false;
   int width = 0, height = 0;
   double budget_ms = 0;  // BenchOptions::budget_ms
+  std::optional<TimingNoise> noise_floor;  // BenchOptions::noise_floor
   std::vector<TechniqueRecord> techniques;
 };
 
