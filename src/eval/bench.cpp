@@ -19,7 +19,6 @@
 #include "farfield/eval/frame_loop.hpp"
 #include "farfield/eval/image_metrics.hpp"
 #include "farfield/eval/run_plan.hpp"
-#include "farfield/eval/timing_noise.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/scene/chunked_scene.hpp"
@@ -418,8 +417,8 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
   report.height = options.height;
   report.budget_ms = options.budget_ms;
   if (options.noise_floor) {
-    // Measured once everything is loaded, just before the techniques run, so that the
-    // machine is as they find it.
+    // Measured with the scene and the renderer loaded, just before the techniques load and
+    // run, so that the machine is about as they find it.
     const double work_ms = options.budget_ms > 0 ? options.budget_ms : 30.0;
     progress.start(formatted("noise floor, a fixed %.1f ms workload on every core", work_ms), 1);
     report.noise_floor = measure_timing_noise(work_ms, uint32_t(path.frames.size()));

@@ -267,7 +267,8 @@ bool OcclusionMap::hidden(const Bounds3& box) const {
   // columns (the matrix is affine): one product instead of eight.
   const glm::vec3 origin = glm::vec3(view_matrix_ * glm::vec4(box.min, 1.0f));
   const glm::vec3 size = box.max - box.min;
-  const glm::vec3 ex = glm::vec3(view_matrix_[0]) * size.x, ey = glm::vec3(view_matrix_[1]) * size.y,
+  const glm::vec3 ex = glm::vec3(view_matrix_[0]) * size.x,
+                  ey = glm::vec3(view_matrix_[1]) * size.y,
                   ez = glm::vec3(view_matrix_[2]) * size.z;
   float nearest = kInf;
   glm::vec2 lo(kInf), hi(-kInf);

@@ -321,7 +321,8 @@ double ClusterSelection::open(uint32_t first, const Seen* first_seen, bool use_c
       if (const AccuracyTable* a = view_->accuracy) {  // read by the budget pass, as above
         const size_t dirs = a->directions.size();
         __builtin_prefetch(&a->node_error[size_t(n) * dirs + seen.direction]);
-        if (box != BoxSet::kNone) __builtin_prefetch(&a->box_error[size_t(box) * dirs + seen.direction]);
+        if (box != BoxSet::kNone)
+          __builtin_prefetch(&a->box_error[size_t(box) * dirs + seen.direction]);
       }
       const uint64_t triangles = box != BoxSet::kNone ? node_slots_[n].box_triangles : node.triangles;
       const double cost = box != BoxSet::kNone
@@ -348,7 +349,8 @@ double ClusterSelection::open(uint32_t first, const Seen* first_seen, bool use_c
         const size_t dirs = a->directions.size();
         for (uint32_t l = slot.first_lod; l < slot.lod_end; ++l)
           __builtin_prefetch(&a->lod_error[size_t(l) * dirs + o.direction]);
-        if (slot.box != BoxSet::kNone) __builtin_prefetch(&a->box_error[size_t(slot.box) * dirs + o.direction]);
+        if (slot.box != BoxSet::kNone)
+          __builtin_prefetch(&a->box_error[size_t(slot.box) * dirs + o.direction]);
       }
       if (slot.lod_end > slot.first_lod) __builtin_prefetch(&lods_.lods[slot.first_lod]);
       const uint64_t triangles = object_triangles(k, level);
