@@ -1,4 +1,5 @@
 #include "farfield/scene/import.hpp"
+#include "farfield/scene/scene_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -522,6 +523,49 @@ TEST(Import, MissingAndCorruptTexturesAreRefusedOrDropped) {
   EXPECT_NE(report.dropped_textures[0].find("CesiumLogoFlat.png"), std::string::npos);
   EXPECT_EQ(scene.objects.size(), 2u);
   EXPECT_FALSE(scene.textured(scene.objects[1]));
+}
+
+}  // namespace
+}  // namespace farfield
+
+namespace farfield {
+namespace {
+
+// A mesh placed by several nodes (the engine's repeated parts): its later placements are
+// instances of its first, stored once, and the scene is the one imported without them, up to
+// float rounding.
+TEST(Import, RepeatedMeshesBecomeInstancesOfTheirFirstPlacement) {
+  if (!std::filesystem::is_directory(kTestModels))
+    GTEST_SKIP() << "assimp-testmodels not installed";
+  const std::string engine =
+      (kTestModels / "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb").string();
+  Scene with, without;
+  ASSERT_TRUE(import_model(engine, with));
+  ASSERT_TRUE(import_model(engine, without, ImportOptions{.instances = false}));
+  EXPECT_EQ(validate_scene(with), "");
+  EXPECT_GT(with.instances.size(), 50u);
+  EXPECT_TRUE(without.instances.empty());
+  ASSERT_EQ(with.objects.size(), without.objects.size());
+  ASSERT_EQ(with.vertices.size(), without.vertices.size());
+  EXPECT_EQ(with.names, without.names);
+  EXPECT_TRUE(test::same_bytes(with.indices, without.indices));
+  const float tolerance = 1e-5f * glm::length(with.bounds.size());
+  for (size_t v = 0; v < with.vertices.size(); ++v) {
+    ASSERT_LT(glm::length(with.vertices[v].position - without.vertices[v].position), tolerance)
+        << "vertex " << v;
+    ASSERT_LT(glm::length(unpack_normal(with.vertices[v].normal) -
+                          unpack_normal(without.vertices[v].normal)),
+              0.01f)
+        << "vertex " << v;
+  }
+  TempDir dir;
+  ASSERT_TRUE(write_scene(with, dir.file("with.ffscene")));
+  ASSERT_TRUE(write_scene(without, dir.file("without.ffscene")));
+  EXPECT_LT(std::filesystem::file_size(dir.file("with.ffscene")) * 3 / 2,
+            std::filesystem::file_size(dir.file("without.ffscene")));
+  auto read = read_scene(dir.file("with.ffscene"));
+  ASSERT_TRUE(read) << read.error().message;
+  EXPECT_EQ(scene_fingerprint(*read), scene_fingerprint(with));
 }
 
 }  // namespace

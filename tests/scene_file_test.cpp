@@ -105,13 +105,7 @@ std::string with_extra_section(const std::string& file, const char* tag, uint32_
   std::memcpy(out.data() + 40, &count, 4);
   const uint64_t file_size = out.size();
   std::memcpy(out.data() + 48, &file_size, 8);
-  XXH3_state_t* state = XXH3_createState();
-  XXH3_64bits_reset(state);
-  XXH3_64bits_update(state, out.data(), 56);
-  XXH3_64bits_update(state, out.data() + 64, count * 48);
-  const uint64_t header = XXH3_64bits_digest(state);
-  XXH3_freeState(state);
-  std::memcpy(out.data() + 56, &header, 8);
+  test::reseal_scene_header(out);
   return out;
 }
 
@@ -126,13 +120,7 @@ TEST(SceneFile, Version2FilesStillRead) {
   std::memcpy(file.data() + 8, &version, 4);
   uint32_t count;
   std::memcpy(&count, file.data() + 40, 4);
-  XXH3_state_t* state = XXH3_createState();
-  XXH3_64bits_reset(state);
-  XXH3_64bits_update(state, file.data(), 56);
-  XXH3_64bits_update(state, file.data() + 64, count * 48);
-  const uint64_t header = XXH3_64bits_digest(state);
-  XXH3_freeState(state);
-  std::memcpy(file.data() + 56, &header, 8);
+  test::reseal_scene_header(file);
   SceneFileInfo info;
   auto read = parse_scene(std::as_bytes(std::span(file.data(), file.size())), "v2", true, &info);
   ASSERT_TRUE(read) << read.error().message;

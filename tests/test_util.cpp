@@ -1,11 +1,15 @@
 #include "test_util.hpp"
 
+#include "farfield/scene/instances.hpp"
+
 #include <fcntl.h>
+#include <xxhash.h>
 #include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cstring>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -168,11 +172,13 @@ int spawn_farfield(const std::vector<std::string>& args) {
 }
 
 bool write_in_chunks(const Scene& scene, const std::string& path, uint32_t chunk_triangles) {
-  auto writer =
-      SceneFileWriter::create(path, {scene.vertices.size(), scene.indices.size()}, chunk_triangles);
+  const StoredGeometry stored = stored_geometry(scene);
+  auto writer = SceneFileWriter::create(path, {stored.vertices, stored.indices}, chunk_triangles);
   Result<void> ok = writer ? writer->append(scene) : Result<void>(writer.error());
   if (ok) {
-    auto finished = writer->finish(scene);
+    // Without instances the writer reads the fingerprint back from the file (tested so).
+    auto finished = scene.instances.empty() ? writer->finish(scene)
+                                            : writer->finish(scene, scene_fingerprint(scene));
     if (!finished) ok = finished.error();
   }
   EXPECT_TRUE(ok) << (ok ? "" : ok.error().message);
@@ -188,6 +194,18 @@ std::string read_file(const std::string& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+void reseal_scene_header(std::string& file) {
+  uint32_t count;
+  std::memcpy(&count, file.data() + 40, 4);
+  XXH3_state_t* state = XXH3_createState();
+  XXH3_64bits_reset(state);
+  XXH3_64bits_update(state, file.data(), 56);
+  XXH3_64bits_update(state, file.data() + 64, count * 48);
+  const uint64_t header = XXH3_64bits_digest(state);
+  XXH3_freeState(state);
+  std::memcpy(file.data() + 56, &header, 8);
 }
 
 std::vector<glm::vec3> random_surface_points(const MeshPart& mesh, int count, uint32_t seed) {

@@ -78,5 +78,7 @@ bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 std::string read_file(const std::string& path);
+// A .ffscene's header checksum made that of its header and section table as they now are.
+void reseal_scene_header(std::string& file);
 
 }  // namespace farfield::test

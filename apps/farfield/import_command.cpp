@@ -14,6 +14,7 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
     std::string out;
     std::string up = "y";
     ImportOptions options;
+    bool no_instances = false;
     bool quiet = false;
   };
   auto s = std::make_shared<Settings>();
@@ -39,6 +40,10 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_flag("--drop-bad-textures", s->options.drop_bad_textures,
                 "Import a material whose texture is missing or cannot be decoded with its base "
                 "colour (and say which) instead of refusing the import");
+  cmd->add_flag("--no-instances", s->no_instances,
+                "Store every placement of a mesh that several nodes place as geometry of its "
+                "own; by default the later ones are instances of the first, stored once "
+                "(docs/scene.md, \"Instances\")");
   cmd->add_flag("--quiet,-q", s->quiet, "Do not show progress");
   commands.push_back(
       {cmd, [s] {
@@ -63,6 +68,7 @@ void add_import_command(CLI::App& root, std::vector<Command>& commands) {
          }
          Progress progress(s->quiet);
          s->options.up = s->up[0];
+         s->options.instances = !s->no_instances;
          ImportReport report;
          auto scene = import_models(s->files, progress, s->options, &report);
          progress.finish();

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "farfield/scene/instances.hpp"
 #include "scene_file_layout.hpp"
 
 namespace farfield {
@@ -44,12 +45,46 @@ Result<ChunkedScene> ChunkedScene::open(const std::string& path) {
   scene.vertex_count_ = table->count(kVertices);
   scene.index_count_ = table->count(kIndices);
   scene.uv_count_ = table->count(kUvs);
-  if (std::string problem = validate_scene_index(scene.index_, scene.vertex_count_,
-                                                 scene.index_count_, scene.uv_count_);
-      !problem.empty())
-    return make_error(path, ": invalid .ffscene contents (", problem, ")");
+  std::string problem = validate_scene_index(scene.index_, scene.vertex_count_,
+                                             scene.index_count_, scene.uv_count_);
+  if (problem.empty()) problem = validate_instances(scene.index_, InstanceForm::stored, false);
+  if (!problem.empty()) return make_error(path, ": invalid .ffscene contents (", problem, ")");
   auto chunks = read_chunk_table(*table, scene.index_, path, true, read);
   if (!chunks) return chunks.error();
+  if (!scene.index_.instances.empty()) {
+    // Keep the stored form for reading; show the held one (every object its own ranges).
+    scene.stored_.objects = scene.index_.objects;
+    scene.stored_.instances = scene.index_.instances;
+    scene.stored_.materials = scene.index_.materials;
+    scene.stored_chunks_ = *chunks;
+    uint64_t vertex = 0, index = 0, uv = 0;
+    for (Object& o : scene.index_.objects) {
+      o.first_vertex = uint32_t(vertex);
+      o.first_index = uint32_t(index);
+      o.first_uv = scene.index_.textured(o) ? uint32_t(uv) : 0;
+      vertex += o.vertex_count;
+      index += o.index_count;
+      if (scene.index_.textured(o)) uv += o.vertex_count;
+    }
+    uint64_t chunk_uv = 0;
+    for (SceneChunk& k : *chunks) {
+      const Object& first = scene.index_.objects[k.first_object];
+      const Object& last = scene.index_.objects[k.first_object + k.object_count - 1];
+      k.first_vertex = first.first_vertex;
+      k.vertex_count = last.first_vertex + last.vertex_count - first.first_vertex;
+      k.first_index = first.first_index;
+      k.index_count = last.first_index + last.index_count - first.first_index;
+      k.first_uv = uint32_t(chunk_uv);
+      k.uv_count = 0;
+      for (uint32_t n = k.first_object; n < k.first_object + k.object_count; ++n)
+        if (scene.index_.textured(scene.index_.objects[n]))
+          k.uv_count += scene.index_.objects[n].vertex_count;
+      chunk_uv += k.uv_count;
+    }
+    scene.vertex_count_ = vertex;
+    scene.index_count_ = index;
+    scene.uv_count_ = uv;
+  }
   if (chunks->empty() && !scene.index_.objects.empty())
     return make_error(path, ": written before chunks: rewrite it (farfield import ", path,
                       " --out NEW.ffscene) to read it in parts");
@@ -80,8 +115,9 @@ uint32_t ChunkedScene::chunk_of(uint32_t object) const {
   return uint32_t(it - chunks_.begin()) - 1;
 }
 
-Result<void> ChunkedScene::read_chunk(size_t c, ChunkGeometry& out) const {
-  const SceneChunk& k = chunks_.at(c);
+Result<void> ChunkedScene::read_stored(size_t c, ChunkGeometry& out) const {
+  const bool instanced = !stored_chunks_.empty();
+  const SceneChunk& k = instanced ? stored_chunks_.at(c) : chunks_.at(c);
   auto named = [&](const std::string& problem) {
     const Object& first = index_.objects[k.first_object];
     return make_error(path_, ": chunk ", std::to_string(c), " (objects ",
@@ -113,12 +149,61 @@ Result<void> ChunkedScene::read_chunk(size_t c, ChunkGeometry& out) const {
   if (XXH3_64bits(hashes, sizeof hashes) != k.checksum)
     return named("checksum mismatch (corrupted .ffscene file)");
   if (std::string problem = validate_geometry(
-          index_, k.first_object, k.object_count,
+          instanced ? stored_ : index_, k.first_object, k.object_count,
           {.vertices = out.vertices, .indices = out.indices, .uvs = out.uvs,
-           .vertex_base = k.first_vertex, .index_base = k.first_index, .uv_base = k.first_uv});
+           .vertex_base = k.first_vertex, .index_base = k.first_index, .uv_base = k.first_uv,
+           .stored = instanced});
       !problem.empty())
     return named("invalid contents (" + problem + ")");
-  for (uint32_t& index : out.indices) index -= k.first_vertex;
+  return {};
+}
+
+Result<void> ChunkedScene::read_chunk(size_t c, ChunkGeometry& out) const {
+  const SceneChunk& k = chunks_.at(c);
+  if (stored_chunks_.empty()) {
+    if (auto ok = read_stored(c, out); !ok) return ok;
+    for (uint32_t& index : out.indices) index -= k.first_vertex;
+    return {};
+  }
+  // Stored chunks, this one's and those of prototypes that lie elsewhere, read once each.
+  std::vector<std::pair<size_t, ChunkGeometry>> read;
+  auto stored_chunk = [&](size_t chunk) -> Result<const ChunkGeometry*> {
+    for (const auto& [n, g] : read)
+      if (n == chunk) return &g;
+    auto& [n, g] = read.emplace_back(chunk, ChunkGeometry{});
+    if (auto ok = read_stored(chunk, g); !ok) return ok.error();
+    return &g;
+  };
+  if (auto own = stored_chunk(c); !own) return own.error();
+  out.vertices.resize(k.vertex_count);
+  out.indices.resize(k.index_count);
+  out.uvs.resize(k.uv_count);
+  for (uint32_t n = k.first_object; n < k.first_object + k.object_count; ++n) {
+    const Object& to = index_.objects[n];
+    const Instance* instance = instance_of(stored_, n);
+    const uint32_t source = instance ? instance->prototype : n;
+    const Object& from = stored_.objects[source];
+    const size_t from_chunk = instance ? chunk_of(source) : c;
+    auto geometry = stored_chunk(from_chunk);
+    if (!geometry) return geometry.error();
+    const ChunkGeometry& g = **geometry;
+    const SceneChunk& s = stored_chunks_[from_chunk];
+    const Vertex* vertices = g.vertices.data() + (from.first_vertex - s.first_vertex);
+    Vertex* vertices_to = out.vertices.data() + (to.first_vertex - k.first_vertex);
+    if (instance) {
+      const InstanceTransform move(*instance);
+      for (uint32_t v = 0; v < to.vertex_count; ++v) vertices_to[v] = move(vertices[v]);
+    } else {
+      std::copy_n(vertices, to.vertex_count, vertices_to);
+    }
+    const uint32_t* indices = g.indices.data() + (from.first_index - s.first_index);
+    uint32_t* indices_to = out.indices.data() + (to.first_index - k.first_index);
+    for (uint32_t i = 0; i < to.index_count; ++i)
+      indices_to[i] = indices[i] - from.first_vertex + (to.first_vertex - k.first_vertex);
+    if (index_.textured(to))
+      std::copy_n(g.uvs.data() + (from.first_uv - s.first_uv), to.vertex_count,
+                  out.uvs.data() + (to.first_uv - k.first_uv));
+  }
   return {};
 }
 

@@ -62,17 +62,25 @@ Result<Scene> generate_field(const Scene& model, const FieldOptions& o, Progress
   const uint32_t material =
       builder.add_material(Material{glm::vec4(1.0f, 1.0f, 1.0f, any_transparent ? 0.5f : 1.0f)});
   progress.start("generate field", o.count);
+  // The first copy holds the model; the others are its instances, moved along the grid, so
+  // that the file stores the model once (instances.hpp).
+  glm::vec3 first_offset(0.0f);
   for (uint64_t c = 0; c < o.count; ++c) {
     const glm::vec3 offset =
         origin + glm::vec3(spacing * float(c % per_row), 0.0f, spacing * float(c / per_row)) -
         anchor;
-    builder.begin_object("copy_" + std::to_string(c), kind, material);
-    for (const Vertex& v : vertices) {
-      builder.add_vertex(v.position + offset, unpack_normal(v.normal), v.color);
+    const std::string name = "copy_" + std::to_string(c);
+    if (c == 0) {
+      first_offset = offset;
+      builder.begin_object(name, kind, material);
+      for (const Vertex& v : vertices)
+        builder.add_vertex(v.position + offset, unpack_normal(v.normal), v.color);
+      for (size_t i = 0; i < indices.size(); i += 3)
+        builder.add_triangle(indices[i], indices[i + 1], indices[i + 2]);
+      builder.end_object();
+    } else {
+      builder.add_instance(name, kind, 0, glm::mat3(1.0f), offset - first_offset);
     }
-    for (size_t i = 0; i < indices.size(); i += 3)
-      builder.add_triangle(indices[i], indices[i + 1], indices[i + 2]);
-    builder.end_object();
     progress.advance();
   }
   progress.finish();

@@ -1,5 +1,7 @@
 #include "farfield/scene/import.hpp"
 
+#include "farfield/scene/instances.hpp"
+
 #include <assimp/GltfMaterial.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -469,6 +471,10 @@ class Converter {
     report_ = report;
     return *this;
   }
+  Converter& with_instances(bool instances) {
+    instances_wanted_ = instances;
+    return *this;
+  }
 
   Result<void> run() {
     // Depth first with an explicit stack: a deep hierarchy cannot overflow the call stack.
@@ -709,6 +715,22 @@ class Converter {
     if (uint64_t(scene_.vertices.size()) + mesh.mNumVertices > UINT32_MAX ||
         uint64_t(scene_.indices.size()) + 3ull * mesh.mNumFaces > UINT32_MAX)
       return make_error(path_, ": too large: the scene would pass 2^32 vertices or indices");
+    // A mesh placed again (a CAD part, a tree in a forest) repeats its first placement moved
+    // by this one's world matrix times the inverse of that one's: a scene instance, which the
+    // file stores once. Not where one placement mirrors and the other does not.
+    if (auto first = placed_.find(&mesh); instances_wanted_ && first != placed_.end()) {
+      const glm::dmat4 move = world * glm::inverse(first->second.world);
+      const glm::mat3 linear(move);
+      const glm::vec3 offset(move[3]);
+      const Instance candidate{0, first->second.object, linear, offset};
+      const double det = glm::determinant(glm::dmat3(move));
+      if (std::isfinite(det) && det > 1e-12 && validate_moved(candidate)) {
+        builder_.add_instance(name, ObjectKind::mesh, first->second.object, linear, offset);
+        triangles_ += scene_.objects.back().triangle_count();
+        return {};
+      }
+    }
+    const size_t objects_before = scene_.objects.size();
 
     positions_.resize(mesh.mNumVertices);
     for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
@@ -761,7 +783,21 @@ class Converter {
       ++triangles_;
     }
     builder_.end_object();
+    if (scene_.objects.size() > objects_before && !placed_.contains(&mesh))
+      placed_.emplace(&mesh, Placement{uint32_t(scene_.objects.size() - 1), world});
     return {};
+  }
+
+  // Whether an instance's transform is one the scene takes (finite, not mirroring) and keeps
+  // its vertices finite.
+  bool validate_moved(const Instance& instance) const {
+    const float det = glm::determinant(instance.linear);
+    if (!std::isfinite(det) || !(det > 0.0f)) return false;
+    const InstanceTransform move(instance);
+    const Object& p = scene_.objects[instance.prototype];
+    for (uint32_t v = 0; v < p.vertex_count; ++v)
+      if (!finite(move(scene_.vertices[p.first_vertex + v]).position)) return false;
+    return true;
   }
 
   glm::dmat4 root_;  // the parent of the file's root node: --up, then --scale
@@ -774,8 +810,15 @@ class Converter {
   std::vector<uint32_t> untextured_;  // the same without its texture
   std::unordered_map<std::string, uint32_t> textures_;  // path as written -> scene texture
   bool drop_bad_textures_ = false;
+  bool instances_wanted_ = true;
   ImportReport* report_ = nullptr;
   std::vector<glm::vec3> positions_;
+  // Each mesh's first placement as an object of its own: the prototype of later ones.
+  struct Placement {
+    uint32_t object;
+    glm::dmat4 world;
+  };
+  std::unordered_map<const aiMesh*, Placement> placed_;
   uint64_t instances_ = 0, triangles_ = 0;
   size_t first_object_ = scene_.objects.size();  // this file's objects start here
   std::vector<CellDraft> cells_;
@@ -797,6 +840,7 @@ struct Snapshot {
         cell_objects(s.cell_objects.size()),
         portals(s.portals.size()),
         portal_points(s.portal_points.size()),
+        instances(s.instances.size()),
         bounds(s.bounds) {}
   void restore(Scene& s) const {
     s.objects.resize(objects);
@@ -810,10 +854,11 @@ struct Snapshot {
     s.cell_objects.resize(cell_objects);
     s.portals.resize(portals);
     s.portal_points.resize(portal_points);
+    s.instances.resize(instances);
     s.bounds = bounds;
   }
   size_t objects, materials, vertices, indices, names, uvs, textures, cells, cell_objects, portals,
-      portal_points;
+      portal_points, instances;
   Bounds3 bounds;
 };
 
@@ -873,7 +918,10 @@ Result<void> import_model(const std::string& path, Scene& scene, const ImportOpt
   root[3][3] = 1.0;
   if (options.up == 'z') root = root * glm::dmat4(1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1);
   Result<void> r =
-      Converter(path, *ai, scene, root).with_textures(options.drop_bad_textures, report).run();
+      Converter(path, *ai, scene, root)
+          .with_textures(options.drop_bad_textures, report)
+          .with_instances(options.instances)
+          .run();
   if (!r) before.restore(scene);
   return r;
 }

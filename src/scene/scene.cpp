@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "farfield/core/assert.hpp"
+#include "farfield/scene/instances.hpp"
 
 namespace farfield {
 
@@ -44,7 +45,8 @@ uint64_t Scene::byte_size() const {
          vertices.size() * sizeof(Vertex) + indices.size() * sizeof(uint32_t) + names.size() +
          uvs.size() * sizeof(glm::vec2) + texture_names + texture_bytes() +
          cells.size() * sizeof(Cell) + cell_objects.size() * sizeof(uint32_t) +
-         portals.size() * sizeof(Portal) + portal_points.size() * sizeof(glm::vec3);
+         portals.size() * sizeof(Portal) + portal_points.size() * sizeof(glm::vec3) +
+         instances.size() * sizeof(Instance);
 }
 
 uint64_t Scene::texture_bytes() const {
@@ -196,6 +198,33 @@ void SceneBuilder::end_object() {
   scene_.objects.push_back(current_);
 }
 
+uint32_t SceneBuilder::add_instance(std::string_view name, ObjectKind kind, uint32_t prototype,
+                                    const glm::mat3& linear, const glm::vec3& offset) {
+  FF_ASSERT(!open_, "object open while adding instance '%.*s'", int(name.size()), name.data());
+  FF_ASSERT(prototype < scene_.objects.size() && !instance_of(scene_, prototype),
+            "prototype %u of %zu objects", prototype, scene_.objects.size());
+  const Instance instance{uint32_t(scene_.objects.size()), prototype, linear, offset};
+  const InstanceTransform move(instance);
+  const Object p = scene_.objects[prototype];
+  begin_object(name, kind, p.material);
+  const uint32_t base = current_.first_vertex;
+  for (uint32_t v = 0; v < p.vertex_count; ++v) {
+    FF_ASSERT(scene_.vertices.size() < UINT32_MAX, "more than 2^32-1 vertices");
+    const Vertex moved = move(scene_.vertices[p.first_vertex + v]);
+    scene_.vertices.push_back(moved);
+    current_.bounds.expand(moved.position);
+    if (textured_) {
+      const glm::vec2 uv = scene_.uvs[p.first_uv + v];
+      scene_.uvs.push_back(uv);
+    }
+  }
+  for (uint32_t k = 0; k < p.index_count; ++k)
+    scene_.indices.push_back(scene_.indices[p.first_index + k] - p.first_vertex + base);
+  end_object();
+  scene_.instances.push_back(instance);
+  return instance.object;
+}
+
 uint64_t scene_fingerprint(const Scene& s) {
   return scene_fingerprint(s, s.uvs.size(), [&](GeometryArray array, const ByteSink& feed) {
     switch (array) {
@@ -241,6 +270,9 @@ uint64_t scene_fingerprint(const Scene& s, uint64_t uv_count,
     XXH3_64bits_update(state, s.portals.data(), s.portals.size() * sizeof(Portal));
     XXH3_64bits_update(state, s.portal_points.data(), s.portal_points.size() * sizeof(glm::vec3));
   }
+  // Instances likewise.
+  if (!s.instances.empty())
+    XXH3_64bits_update(state, s.instances.data(), s.instances.size() * sizeof(Instance));
   const uint64_t hash = XXH3_64bits_digest(state);
   XXH3_freeState(state);
   return hash;
@@ -251,8 +283,12 @@ std::string validate_scene(const Scene& s) {
           validate_scene_index(s, s.vertices.size(), s.indices.size(), s.uvs.size());
       !problem.empty())
     return problem;
-  return validate_geometry(s, 0, uint32_t(s.objects.size()),
-                           {.vertices = s.vertices, .indices = s.indices, .uvs = s.uvs});
+  if (std::string problem =
+          validate_geometry(s, 0, uint32_t(s.objects.size()),
+                            {.vertices = s.vertices, .indices = s.indices, .uvs = s.uvs});
+      !problem.empty())
+    return problem;
+  return validate_instances(s, InstanceForm::held, true);
 }
 
 std::string validate_scene_index(const Scene& s, uint64_t vertex_count, uint64_t index_count,
@@ -304,6 +340,7 @@ std::string validate_geometry(const Scene& s, uint32_t first_object, uint32_t ob
   const uint64_t vertex_end = g.vertex_base + g.vertices.size();
   for (uint32_t i = first_object; i < first_object + object_count; ++i) {
     const Object& o = s.objects[i];
+    if (g.stored && instance_of(s, i)) continue;  // its geometry is its prototype's
     FF_ASSERT(o.first_index >= g.index_base && o.first_index + o.index_count <=
                                                   g.index_base + g.indices.size(),
               "object %u's indices lie outside the span given", i);

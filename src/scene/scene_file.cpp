@@ -16,6 +16,7 @@
 
 #include "farfield/core/atomic_file.hpp"
 #include "farfield/core/file_reading.hpp"
+#include "farfield/scene/instances.hpp"
 #include "farfield/scene/scene_file_writer.hpp"
 #include "scene_file_layout.hpp"
 
@@ -74,6 +75,19 @@ Result<Scene> read_v2(const char* head, uint64_t file_size, const std::string& n
   auto chunk_table = read_chunk_table(*table, scene, name, verify, read);
   if (!chunk_table) return chunk_table.error();
   *chunks = chunk_table->size();
+  // Instances are stored with their prototypes' ranges: checked in that form, then given
+  // their own geometry (read_any checks the scene that results).
+  if (!scene.instances.empty()) {
+    std::string problem =
+        validate_scene_index(scene, scene.vertices.size(), scene.indices.size(), scene.uvs.size());
+    if (problem.empty()) problem = validate_instances(scene, InstanceForm::stored, false);
+    if (problem.empty())
+      problem = validate_geometry(scene, 0, uint32_t(scene.objects.size()),
+                                  {.vertices = scene.vertices, .indices = scene.indices,
+                                   .uvs = scene.uvs, .stored = true});
+    if (!problem.empty()) return make_error(name, ": invalid .ffscene contents (", problem, ")");
+    expand_instances(scene);
+  }
   // The fingerprint stands for the scene where its geometry is not read (chunked_scene.hpp):
   // it must be the scene's.
   if (const SectionEntryV2* e = found[kFingerprint]; e && verify) {
@@ -200,7 +214,8 @@ Result<Scene> read_any(uint64_t file_size, const std::string& name, bool verify,
 }  // namespace
 
 Result<void> write_scene(const Scene& scene, const std::string& path) {
-  auto writer = SceneFileWriter::create(path, {scene.vertices.size(), scene.indices.size()});
+  const StoredGeometry stored = stored_geometry(scene);
+  auto writer = SceneFileWriter::create(path, {stored.vertices, stored.indices});
   if (!writer) return writer.error();
   if (auto ok = writer->append(scene); !ok) return ok;
   auto written = writer->finish(scene, scene_fingerprint(scene));

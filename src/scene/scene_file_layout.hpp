@@ -52,7 +52,7 @@ static_assert(sizeof(SectionEntryV2) == 48);
 inline constexpr uint32_t kMaxSections = 64;
 // The writer leaves room for the most sections it writes, so that it can write them before it
 // knows how many there are; the first section starts here.
-inline constexpr uint32_t kMostSectionsWritten = 16;
+inline constexpr uint32_t kMostSectionsWritten = 17;
 inline constexpr uint64_t kFirstSection =
     align_up(sizeof(HeaderV2) + kMostSectionsWritten * sizeof(SectionEntryV2));
 
@@ -84,16 +84,19 @@ enum Tag {
   kPortalPoints,
   kChunks,
   kFingerprint,
+  kInstances,
   kTagCount
 };
 inline constexpr const char* kTagNames[kTagCount] = {
     "objects", "materials",    "vertices", "indices",       "names",
     "uvs",     "textures",     "texture_names", "images",   "cells",
-    "cell_objects", "portals", "portal_points", "chunks",   "fingerprint"};
+    "cell_objects", "portals", "portal_points", "chunks",   "fingerprint",
+    "instances"};
 inline constexpr uint32_t kTagElementSize[kTagCount] = {
     sizeof(Object), sizeof(Material), sizeof(Vertex),    sizeof(uint32_t),   1,
     sizeof(glm::vec2), sizeof(TextureEntry), 1,          1,                  sizeof(Cell),
-    sizeof(uint32_t), sizeof(Portal), sizeof(glm::vec3), sizeof(SceneChunk), sizeof(uint64_t)};
+    sizeof(uint32_t), sizeof(Portal), sizeof(glm::vec3), sizeof(SceneChunk), sizeof(uint64_t),
+    sizeof(Instance)};
 // Older readers skip these: they add to a file and change nothing it held.
 constexpr bool optional_section(Tag tag) { return tag == kChunks || tag == kFingerprint; }
 
@@ -120,13 +123,14 @@ Result<SectionTable> read_section_table(const char* head, uint64_t file_size,
                                         const std::string& name, const ReadAt& read);
 
 // Reads every section but vertices, indices and uvs into `scene` (bounds from the header),
-// each checked against its checksum when `verify`.
+// each checked against its checksum when `verify`. The objects are in the stored form
+// (instances.hpp): an instance's ranges are its prototype's.
 Result<void> read_index_sections(const SectionTable& table, Scene& scene, const std::string& name,
                                  bool verify, const ReadAt& read);
 
-// Reads the chunk table (empty where the file has none) and checks it against the objects:
-// chunks follow each other without gaps over every object, vertex, index and coordinate, and
-// each object's ranges lie in its chunk's.
+// Reads the chunk table (empty where the file has none) and checks it against the stored
+// objects: chunks follow each other without gaps over every object and every stored vertex,
+// index and coordinate, and each object's ranges, but an instance's, lie in its chunk's.
 Result<std::vector<SceneChunk>> read_chunk_table(const SectionTable& table, const Scene& index,
                                                  const std::string& name, bool verify,
                                                  const ReadAt& read);

@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cstring>
 #include <string_view>
+#include <vector>
+
+#include "farfield/scene/instances.hpp"
 
 namespace farfield::scene_file {
 
@@ -90,6 +93,15 @@ Result<SectionTable> read_section_table(const char* head, uint64_t file_size,
       return corrupted(name, tag + " section of the wrong element size");
     t.found[k] = &e;
   }
+  // The room left after the table for more entries is zeros: a flip there is damage too.
+  uint64_t first_section = file_size;
+  for (const SectionEntryV2& e : t.entries) first_section = std::min(first_section, e.offset);
+  if (first_section > table_end && first_section - table_end <= 4096) {
+    std::vector<char> gap(first_section - table_end);
+    if (auto ok = read(gap.data(), gap.size(), table_end); !ok) return ok.error();
+    if (std::any_of(gap.begin(), gap.end(), [](char c) { return c != 0; }))
+      return corrupted(name, "bytes after the section table are not zeros");
+  }
   for (int k : {kObjects, kMaterials, kVertices, kIndices, kNames})
     if (!t.found[k]) return corrupted(name, std::string("no ") + kTagNames[k] + " section");
   if (t.count(kVertices) > UINT32_MAX || t.count(kIndices) > UINT32_MAX ||
@@ -138,6 +150,10 @@ Result<void> read_index_sections(const SectionTable& table, Scene& scene, const 
     if (ok) ok = verify_section(kPortals, scene.portals.data());
     if (ok) ok = read_array(scene.portal_points, *found[kPortalPoints], read);
     if (ok) ok = verify_section(kPortalPoints, scene.portal_points.data());
+  }
+  if (ok && found[kInstances]) {
+    ok = read_array(scene.instances, *found[kInstances], read);
+    if (ok) ok = verify_section(kInstances, scene.instances.data());
   }
   if (ok && found[kTextures]) {
     ok = read_array(textures, *found[kTextures], read);
@@ -202,6 +218,7 @@ Result<std::vector<SceneChunk>> read_chunk_table(const SectionTable& table, cons
     if (object > index.objects.size()) return bad("runs past the last object");
     for (uint64_t i = k.first_object; i < object; ++i) {
       const Object& o = index.objects[i];
+      if (instance_of(index, uint32_t(i))) continue;  // its ranges are its prototype's
       const bool textured = o.material < index.materials.size() && index.textured(o);
       if (o.first_vertex < k.first_vertex || uint64_t(o.first_vertex) + o.vertex_count > vertex ||
           o.first_index < k.first_index || uint64_t(o.first_index) + o.index_count > index_at ||

@@ -13,6 +13,7 @@
 #include "farfield/core/assert.hpp"
 #include "farfield/core/atomic_file.hpp"
 #include "farfield/core/text.hpp"
+#include "farfield/scene/instances.hpp"
 #include "scene_file_layout.hpp"
 
 namespace farfield {
@@ -53,7 +54,8 @@ struct SceneFileWriter::State {
   uint32_t chunk_triangles = kChunkTriangles;
   std::array<uint64_t, kStreamCount> offset{};   // of each array's section in the file
   std::array<uint64_t, kStreamCount> written{};  // elements
-  std::vector<Object> objects;
+  std::vector<Object> objects;  // in the stored form (instances.hpp)
+  std::vector<Instance> instances;
   std::string names;
   // Chunks: their starts as objects come; per stream, the chunk its bytes now go to.
   std::vector<SceneChunk> chunks;
@@ -96,9 +98,13 @@ struct SceneFileWriter::State {
   }
 
   // A chunk starts before object `o` (numbered in the whole scene) when the last one is full
-  // and nothing before `o` reaches past where `o` starts.
-  void place(const Object& o, bool textured) {
-    const std::array<uint64_t, kStreamCount> start = {o.first_vertex, o.first_index,
+  // and nothing before `o` reaches past where `o` starts. An instance stores no geometry: a
+  // chunk may start before it, where the stored geometry has come to, and its triangles count
+  // towards its chunk's as they are read.
+  void place(const Object& o, bool textured, bool instance) {
+    const std::array<uint64_t, kStreamCount> start =
+        instance ? end
+                 : std::array<uint64_t, kStreamCount>{o.first_vertex, o.first_index,
                                                       textured ? o.first_uv : end[kUvStream]};
     const bool clean = start[0] >= end[0] && start[1] >= end[1] && start[2] >= end[2];
     const uint64_t triangles = o.triangle_count();
@@ -115,10 +121,11 @@ struct SceneFileWriter::State {
       chunk_hashes.push_back({});
       chunk_triangles_now = 0;
     }
+    chunk_triangles_now += triangles;
+    if (instance) return;
     const SceneChunk& c = chunks.back();
     if (start[0] < c.first_vertex || start[1] < c.first_index || start[2] < c.first_uv)
       in_order = false;
-    chunk_triangles_now += triangles;
     end[0] = std::max<uint64_t>(end[0], uint64_t(o.first_vertex) + o.vertex_count);
     end[1] = std::max<uint64_t>(end[1], uint64_t(o.first_index) + o.index_count);
     if (textured) end[2] = std::max<uint64_t>(end[2], uint64_t(o.first_uv) + o.vertex_count);
@@ -190,33 +197,48 @@ Result<void> SceneFileWriter::append(const Scene& part) {
     return make_error(path, ": refusing to write an invalid scene (", problem, ")");
   const uint64_t base_v = s.written[kVertexStream], base_i = s.written[kIndexStream],
                  base_u = s.written[kUvStream];
-  if (base_v + part.vertices.size() > s.sizes.vertices ||
-      base_i + part.indices.size() > s.sizes.indices)
+  const StoredGeometry part_size = stored_geometry(part);
+  if (base_v + part_size.vertices > s.sizes.vertices ||
+      base_i + part_size.indices > s.sizes.indices)
     return make_error(path, ": the scene's parts hold more than the ",
                       std::to_string(s.sizes.vertices), " vertices and ",
                       std::to_string(s.sizes.indices), " indices it was to have");
   if (s.names.size() + part.names.size() > UINT32_MAX || s.objects.size() + part.objects.size() > UINT32_MAX)
     return make_error(path, ": the scene's names or objects pass 2^32");
-  for (Object o : part.objects) {
+  // Instances' geometry is left out (their prototypes lie in the part: validate_scene).
+  std::optional<StoredForm> stored;
+  if (!part.instances.empty()) stored = stored_form(part);
+  const std::span<const Object> objects = stored ? stored->objects : part.objects;
+  const std::span<const Vertex> vertices = stored ? stored->vertices : part.vertices;
+  const std::span<const uint32_t> part_indices = stored ? stored->indices : part.indices;
+  const std::span<const glm::vec2> uvs = stored ? stored->uvs : part.uvs;
+  const uint32_t base_object = uint32_t(s.objects.size());
+  for (Instance i : part.instances) {
+    i.object += base_object;
+    i.prototype += base_object;
+    s.instances.push_back(i);
+  }
+  for (uint32_t n = 0; n < objects.size(); ++n) {
+    Object o = objects[n];
     const bool textured = part.textured(o);
     o.first_vertex += uint32_t(base_v);
     o.first_index += uint32_t(base_i);
     o.first_uv = textured ? o.first_uv + uint32_t(base_u) : 0;
     o.name_offset += uint32_t(s.names.size());
-    s.place(o, textured);
+    s.place(o, textured, stored && instance_of(part, n));
     s.objects.push_back(o);
   }
   s.names += part.names;
-  if (auto ok = s.put(kVertexStream, part.vertices.data(), part.vertices.size()); !ok) return ok;
+  if (auto ok = s.put(kVertexStream, vertices.data(), vertices.size()); !ok) return ok;
   std::vector<uint32_t> rebased;
   constexpr size_t kSlice = size_t(1) << 18;
-  for (size_t i = 0; i < part.indices.size(); i += kSlice) {
-    const size_t n = std::min(kSlice, part.indices.size() - i);
-    rebased.assign(part.indices.begin() + ptrdiff_t(i), part.indices.begin() + ptrdiff_t(i + n));
+  for (size_t i = 0; i < part_indices.size(); i += kSlice) {
+    const size_t n = std::min(kSlice, part_indices.size() - i);
+    rebased.assign(part_indices.begin() + ptrdiff_t(i), part_indices.begin() + ptrdiff_t(i + n));
     for (uint32_t& index : rebased) index += uint32_t(base_v);
     if (auto ok = s.put(kIndexStream, rebased.data(), n); !ok) return ok;
   }
-  return s.put(kUvStream, part.uvs.data(), part.uvs.size());
+  return s.put(kUvStream, uvs.data(), uvs.size());
 }
 
 Result<SceneFileInfo> SceneFileWriter::finish(const Scene& rest,
@@ -240,9 +262,15 @@ Result<SceneFileInfo> SceneFileWriter::finish(const Scene& rest,
   index.cell_objects = rest.cell_objects;
   index.portals = rest.portals;
   index.portal_points = rest.portal_points;
+  index.instances = std::move(s.instances);
   index.bounds = rest.bounds;
-  if (std::string problem = validate_scene_index(index, vertices, indices, uvs); !problem.empty())
+  std::string problem = validate_scene_index(index, vertices, indices, uvs);
+  if (problem.empty()) problem = validate_instances(index, InstanceForm::stored, false);
+  if (!problem.empty())
     return make_error(path, ": refusing to write an invalid scene (", problem, ")");
+  // The fingerprint is of the scene held, instances expanded: it cannot be read back.
+  if (!fingerprint && !index.instances.empty())
+    return make_error(path, ": a scene with instances is written with its fingerprint given");
   std::array<uint64_t, kStreamCount> section_checksums;
   for (int k = 0; k < kStreamCount; ++k) section_checksums[k] = s.section_hasher[k].take();
   s.close_chunks(index.objects.size(), section_checksums);
@@ -297,6 +325,8 @@ Result<SceneFileInfo> SceneFileWriter::finish(const Scene& rest,
     tail.push_back({kPortals, std::as_bytes(std::span(index.portals))});
     tail.push_back({kPortalPoints, std::as_bytes(std::span(index.portal_points))});
   }
+  if (!index.instances.empty())
+    tail.push_back({kInstances, std::as_bytes(std::span(index.instances))});
   if (!textures.empty()) {
     tail.push_back({kTextures, std::as_bytes(std::span(textures))});
     tail.push_back(

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <vector>
 
 #include "farfield/core/text.hpp"
 
@@ -53,6 +54,20 @@ std::string summarize_scene(const SceneSummaryInput& in) {
     out +=
         formatted("cells:       %zu (rooms; %.1f objects seen from each on average), %zu portals\n",
                   s.cells.size(), double(listed) / double(s.cells.size()), s.portals.size());
+  }
+  if (!s.instances.empty()) {
+    std::vector<uint32_t> models;
+    uint64_t repeated = 0;
+    for (const Instance& i : s.instances) {
+      models.push_back(i.prototype);
+      repeated += s.objects[i.object].triangle_count();
+    }
+    std::sort(models.begin(), models.end());
+    models.erase(std::unique(models.begin(), models.end()), models.end());
+    out += formatted("instances:   %zu objects repeat %zu model%s (%llu of the triangles, "
+                     "stored once with their model)\n",
+                     s.instances.size(), models.size(), models.size() == 1 ? "" : "s",
+                     (unsigned long long)repeated);
   }
   out += formatted("memory:      %llu bytes (%.1f bytes per triangle) when read whole\n",
                    (unsigned long long)bytes, triangle_total ? double(bytes) / double(triangle_total) : 0.0);

@@ -33,7 +33,9 @@ class ChunkedScene {
   // (they came with farfield's out-of-core walk) is refused with how to rewrite it.
   static Result<ChunkedScene> open(const std::string& path);
 
-  // Everything but vertices, indices and texture coordinates (those arrays are empty).
+  // Everything but vertices, indices and texture coordinates (those arrays are empty). Objects
+  // and chunks are as a scene read whole holds them: an instance (Scene::instances) has ranges
+  // of its own, and a chunk of instances the geometry they expand to.
   const Scene& index() const { return index_; }
   std::span<const SceneChunk> chunks() const { return chunks_; }
   const SceneFileInfo& file() const { return file_; }
@@ -50,16 +52,24 @@ class ChunkedScene {
   const Bounds3& chunk_bounds(size_t c) const { return chunk_bounds_[c]; }
 
   // Reads chunk `c`, checks it against its checksum and the scene's invariants, and counts its
-  // indices from its first vertex. An error names the file and the chunk (its objects).
+  // indices from its first vertex. Its instances are expanded from their prototypes, read from
+  // their own chunks where they lie in another. An error names the file and the chunk (its
+  // objects).
   Result<void> read_chunk(size_t c, ChunkGeometry& out) const;
 
  private:
+  // Chunk `c` as stored: without its instances' geometry, its indices absolute in the stored
+  // arrays.
+  Result<void> read_stored(size_t c, ChunkGeometry& out) const;
   ChunkedScene(std::string path, ReadableFile file) : path_(std::move(path)), file_handle_(std::move(file)) {}
   std::string path_;
   ReadableFile file_handle_;
   SceneFileInfo file_;
   Scene index_;
   std::vector<SceneChunk> chunks_;
+  // With instances: the objects and chunks as the file stores them (instances.hpp).
+  Scene stored_;
+  std::vector<SceneChunk> stored_chunks_;
   std::vector<Bounds3> chunk_bounds_;
   uint64_t vertex_count_ = 0, index_count_ = 0, uv_count_ = 0;
   uint64_t offset_[3] = {0, 0, 0};  // of the vertices, indices and uvs sections

@@ -1,6 +1,8 @@
 // A field of copies of one model on a square grid in the XZ plane (paper 002, Sec. 6.3: the
 // scaling experiment lays out 1, 4, 16, ... trees). Each copy is one object; the model's
-// material colours are folded into the vertex colours so a copy needs a single material.
+// material colours are folded into the vertex colours so a copy needs a single material. The
+// first copy holds the model and the others are its instances (Scene::instances), which a
+// scene file stores once.
 #pragma once
 
 #include <cstdint>

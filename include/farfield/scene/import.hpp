@@ -39,6 +39,9 @@ struct ImportOptions {
   char up = 'y';                   // 'y' or 'z': the axis that points up in the file
   double scale = 1.0;              // metres per file unit, > 0
   bool drop_bad_textures = false;  // keep the base colour where a texture fails
+  // A mesh that several nodes place: its later placements kept as instances of its first
+  // (Scene::instances, stored once), where neither or both mirror. False: each expanded apart.
+  bool instances = true;
 };
 
 // What an import left out.

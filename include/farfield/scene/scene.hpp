@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -110,6 +111,20 @@ struct Object {
 };
 static_assert(sizeof(Object) == 64);
 
+// Object `object` repeats object `prototype`'s model: its vertices are the prototype's moved by
+// `linear` then `offset` (instances.hpp: transform_vertex), its indices and texture
+// coordinates the prototype's, its material the prototype's. A scene file stores such an
+// object's geometry once, with the prototype's (docs/ffscene.md, "Instances"); in memory it is
+// held expanded like any other object, so that everything that reads objects reads it as one.
+struct Instance {
+  uint32_t object = 0;
+  uint32_t prototype = 0;  // an earlier object, not itself an instance
+  glm::mat3 linear{1.0f};  // rotation and scale, determinant > 0 (no mirroring)
+  glm::vec3 offset{0.0f};  // metres
+  bool operator==(const Instance&) const = default;
+};
+static_assert(sizeof(Instance) == 56);
+
 struct Scene {
   std::vector<Object> objects;
   std::vector<Material> materials;
@@ -123,6 +138,8 @@ struct Scene {
   std::vector<uint32_t> cell_objects;  // Cell::first_object
   std::vector<Portal> portals;
   std::vector<glm::vec3> portal_points;  // Portal::first_point
+  // Objects that repeat another's model, by increasing `object`; empty for scenes without.
+  std::vector<Instance> instances;
   Bounds3 bounds;                        // of all vertices
 
   uint64_t triangle_count() const { return indices.size() / 3; }
@@ -168,6 +185,11 @@ class SceneBuilder {
   uint32_t vertex_count() const;  // in the current object
   // Finishes the object; an object without triangles is dropped.
   void end_object();
+  // A whole object that repeats `prototype` (an earlier object of this scene, not itself an
+  // instance) moved by `instance.linear` and `instance.offset`: its geometry expanded from the
+  // prototype's, recorded in Scene::instances. Returns the new object's number.
+  uint32_t add_instance(std::string_view name, ObjectKind kind, uint32_t prototype,
+                        const glm::mat3& linear, const glm::vec3& offset);
 
  private:
   Scene& scene_;
@@ -199,7 +221,8 @@ using ByteSink = std::function<void(std::span<const std::byte>)>;
 uint64_t scene_fingerprint(const Scene& index, uint64_t uv_count,
                            const std::function<void(GeometryArray, const ByteSink& feed)>& geometry);
 
-// Checks every invariant a renderer relies on (ranges, indices, materials, names, bounds).
+// Checks every invariant a renderer relies on (ranges, indices, materials, names, bounds, and
+// instances: validate_instances).
 // Returns a message naming the first broken one, or an empty string.
 std::string validate_scene(const Scene& scene);
 
@@ -217,6 +240,8 @@ struct GeometrySpan {
   std::span<const uint32_t> indices;
   std::span<const glm::vec2> uvs;
   uint64_t vertex_base = 0, index_base = 0, uv_base = 0;
+  // The scene's stored form (instances.hpp): instances hold no geometry of their own.
+  bool stored = false;
 };
 std::string validate_geometry(const Scene& index, uint32_t first_object, uint32_t object_count,
                               const GeometrySpan& geometry);
