@@ -82,6 +82,53 @@ TEST(GlbExport, ReadsBackThroughAssimp) {
             0);
 }
 
+// An instance whose prototype is exported too places the prototype's mesh with its transform
+// as the node's matrix: the model once in the file, every copy where the scene has it. Without
+// its prototype (another --objects) it is a mesh of its own.
+TEST(GlbExport, InstancesPlaceTheirPrototypesMesh) {
+  Scene scene = test::make_box_row(1);
+  SceneBuilder b(scene);
+  const glm::mat3 turn(glm::vec3(0, 0, -2), glm::vec3(0, 2, 0), glm::vec3(2, 0, 0));
+  b.add_instance("moved", ObjectKind::mesh, 0, glm::mat3(1.0f), {10.0f, 0.0f, 0.0f});
+  b.add_instance("turned", ObjectKind::mesh, 0, turn, {0.0f, 0.0f, 20.0f});
+  GlbSummary summary;
+  auto glb = encode_glb(scene, {}, &summary);
+  ASSERT_TRUE(glb) << glb.error().message;
+  EXPECT_EQ(summary.objects, 3u);
+  EXPECT_EQ(summary.triangles, scene.triangle_count());
+  Assimp::Importer importer;
+  const aiScene* read = read_back(importer, *glb);
+  ASSERT_NE(read, nullptr) << importer.GetErrorString();
+  EXPECT_EQ(read->mNumMeshes, 1u);
+  ASSERT_EQ(read->mRootNode->mNumChildren, 3u);
+  for (unsigned i = 0; i < 3; ++i) {
+    const Object& o = scene.objects[i];
+    const aiNode* node = read->mRootNode->mChildren[i];
+    EXPECT_EQ(std::string(node->mName.C_Str()), std::string(scene.object_name(o)));
+    ASSERT_EQ(node->mNumMeshes, 1u);
+    const aiMesh* mesh = read->mMeshes[node->mMeshes[0]];
+    ASSERT_EQ(mesh->mNumVertices, o.vertex_count);
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      const aiVector3D p = node->mTransformation * mesh->mVertices[v];
+      EXPECT_LT(glm::length(glm::vec3(p.x, p.y, p.z) - scene.vertices[o.first_vertex + v].position),
+                1e-4f)
+          << "object " << i << " vertex " << v;
+    }
+  }
+  // The turned copy alone: its own mesh, no matrix.
+  auto alone = encode_glb(scene, {.objects = "turned"});
+  ASSERT_TRUE(alone);
+  const aiScene* one = read_back(importer, *alone);
+  ASSERT_NE(one, nullptr);
+  // Assimp makes a glTF scene's only node its root.
+  const aiNode* node = one->mRootNode;
+  ASSERT_EQ(node->mNumChildren, 0u);
+  ASSERT_EQ(node->mNumMeshes, 1u);
+  EXPECT_EQ(std::string(node->mName.C_Str()), "turned");
+  EXPECT_TRUE(node->mTransformation.IsIdentity());
+  EXPECT_EQ(one->mMeshes[0]->mVertices[0].z, scene.vertices[scene.objects[2].first_vertex].position.z);
+}
+
 TEST(GlbExport, ExportsTheObjectsAskedAndRefusesNone) {
   const Scene scene = test::make_box_row(3);
   GlbSummary summary;
@@ -151,17 +198,23 @@ TEST(GlbCli, PassesTheKhronosValidator) {
                 .exit_status,
             0);
   ASSERT_EQ(run_farfield("generate tree -q --out " + dir.file("t.ffscene")).exit_status, 0);
-  for (const char* name : {"c", "t"})
+  ASSERT_EQ(run_farfield("generate field -q --count 4 --mesh " + dir.file("t.ffscene") +
+                         " --out " + dir.file("f.ffscene"))
+                .exit_status,
+            0);
+  for (const char* name : {"c", "t", "f"})
     ASSERT_EQ(run_farfield("export " + dir.file(std::string(name) + ".ffscene") + " --out " +
                            dir.file(std::string(name) + ".glb"))
                   .exit_status,
               0);
   const test::CommandResult r = test::run_shell("node " + web + "/validate_glb.mjs " +
-                                                 dir.file("c.glb") + " " + dir.file("t.glb"));
+                                                 dir.file("c.glb") + " " + dir.file("t.glb") +
+                                                 " " + dir.file("f.glb"));
   const std::string& output = r.output;
   EXPECT_EQ(r.exit_status, 0) << output;
   EXPECT_NE(output.find("c.glb: 0 errors"), std::string::npos) << output;
   EXPECT_NE(output.find("t.glb: 0 errors"), std::string::npos) << output;
+  EXPECT_NE(output.find("f.glb: 0 errors"), std::string::npos) << output;
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "farfield/core/atomic_file.hpp"
 #include "farfield/core/text.hpp"
+#include "farfield/scene/instances.hpp"
 
 namespace farfield {
 
@@ -26,6 +27,16 @@ constexpr int kLinear = 9729, kLinearMipmapLinear = 9987;
 constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
 constexpr uint32_t kJsonChunk = 0x4E4F534A, kBinChunk = 0x004E4942;
 constexpr uint64_t kGlbLimit = UINT32_MAX;  // the header's length field
+
+// glTF asks a node's matrix to be translation, rotation and scale: true where the linear part's
+// columns are orthogonal (a rotation times a scale per axis; instances do not mirror).
+bool decomposes(const glm::mat3& m) {
+  for (int a = 0; a < 3; ++a)
+    for (int b = a + 1; b < 3; ++b)
+      if (std::abs(glm::dot(m[a], m[b])) > 1e-5f * glm::length(m[a]) * glm::length(m[b]))
+        return false;
+  return true;
+}
 
 int gl_wrap(TextureWrap w) {
   switch (w) {
@@ -73,12 +84,22 @@ Result<std::string> encode_glb(const Scene& scene, const GlbOptions& options,
                           : ", the first named '" +
                                 std::string(scene.object_name(scene.objects[0])) + "'",
                       ")");
+  // An instance whose prototype is exported too is a node that places the prototype's mesh
+  // with its transform (glTF's own instancing), where that is a glTF node matrix.
+  std::vector<bool> is_chosen(scene.objects.size(), false);
+  for (uint32_t i : chosen) is_chosen[i] = true;
+  std::map<uint32_t, const Instance*> placed;  // object -> its instance, where it shares
+  for (uint32_t i : chosen)
+    if (const Instance* instance = instance_of(scene, i);
+        instance && is_chosen[instance->prototype] && decomposes(instance->linear))
+      placed.emplace(i, instance);
   // The binary part's size first: a scene past the container's limit is refused before
   // anything is built.
   uint64_t bin_bytes = 0;
   std::map<uint32_t, uint32_t> materials;  // scene material -> glTF material
   for (uint32_t i : chosen) {
     const Object& o = scene.objects[i];
+    if (placed.contains(i)) continue;
     const bool textured = scene.textured(o);
     bin_bytes += uint64_t(o.vertex_count) * (12 + 12 + 4 + (textured ? 8 : 0)) + 16;
     bin_bytes += uint64_t(o.index_count) * 4;
@@ -111,8 +132,12 @@ Result<std::string> encode_glb(const Scene& scene, const GlbOptions& options,
   uint64_t triangles = 0, vertices = 0;
   std::vector<glm::vec3> position, normal;
   std::vector<uint32_t> local;
+  std::map<uint32_t, size_t> mesh_of;  // object -> its glTF mesh
   for (uint32_t i : chosen) {
     const Object& o = scene.objects[i];
+    triangles += o.triangle_count();
+    vertices += o.vertex_count;
+    if (placed.contains(i)) continue;
     const Vertex* v = scene.vertices.data() + o.first_vertex;
     glm::vec3 lo(INFINITY), hi(-INFINITY);
     normal.resize(o.vertex_count);
@@ -155,11 +180,23 @@ Result<std::string> encode_glb(const Scene& scene, const GlbOptions& options,
                          {"indices", index_accessor},
                          {"material", materials.at(o.material)},
                          {"mode", 4}}}}});
-    nodes.push_back({{"name", name},
-                     {"mesh", meshes.size() - 1},
-                     {"extras", {{"kind", std::string(object_kind_name(o.kind))}}}});
-    triangles += o.triangle_count();
-    vertices += o.vertex_count;
+    mesh_of[i] = meshes.size() - 1;
+  }
+  for (uint32_t i : chosen) {
+    const Object& o = scene.objects[i];
+    json node = {{"name", std::string(scene.object_name(o))},
+                 {"extras", {{"kind", std::string(object_kind_name(o.kind))}}}};
+    if (auto it = placed.find(i); it != placed.end()) {
+      const Instance& instance = *it->second;
+      const glm::mat3& m = instance.linear;
+      node["mesh"] = mesh_of.at(instance.prototype);
+      node["matrix"] = {m[0][0], m[0][1], m[0][2], 0.0f, m[1][0], m[1][1], m[1][2], 0.0f,
+                        m[2][0], m[2][1], m[2][2], 0.0f, instance.offset.x, instance.offset.y,
+                        instance.offset.z, 1.0f};
+    } else {
+      node["mesh"] = mesh_of.at(i);
+    }
+    nodes.push_back(std::move(node));
   }
 
   // The binary chunk: the views one after the other, then the images.

@@ -2,7 +2,9 @@
 // one primitive each (positions, unit normals, vertex colours, texture coordinates where the
 // material is textured, 32-bit indices), the scene's materials as metallic-roughness materials
 // (base colour factor and texture, alpha mode and cutoff, double-sidedness) and its textures
-// as embedded PNG or JPEG images. +Y up, metres, as glTF. The 3D Tiles export writes each
+// as embedded PNG or JPEG images. An instance (Scene::instances) whose prototype is exported too
+// is a node placing the prototype's mesh with its transform as the node's matrix, so a viewer
+// holds the model once. +Y up, metres, as glTF. The 3D Tiles export writes each
 // tile's content through the same encoder.
 #pragma once
 
