@@ -23,17 +23,7 @@ namespace {
 
 using Rgb = std::array<int, 3>;
 
-// Small images keep llvmpipe fast.
-View look_at(const glm::vec3& eye, const glm::vec3& target) {
-  View view;
-  view.width = 128;
-  view.height = 96;
-  const glm::vec3 d = glm::normalize(target - eye);
-  view.pose.position = eye;
-  view.pose.yaw_deg = glm::degrees(std::atan2(d.z, d.x));
-  view.pose.pitch_deg = glm::degrees(std::asin(d.y));
-  return view;
-}
+using test::look_at;
 
 // The pixel (rows from the top) where `p` lands.
 glm::ivec2 pixel_of(const View& view, const glm::vec3& p) {

@@ -14,6 +14,9 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -123,6 +126,17 @@ void add_cuboid(SceneBuilder& b, const glm::vec3& lo, const glm::vec3& hi) {
         b.add_triangle(first, first + 2, first + 3);
       }
     }
+}
+
+View look_at(const glm::vec3& eye, const glm::vec3& target) {
+  View view;
+  view.width = 128;
+  view.height = 96;
+  const glm::vec3 d = glm::normalize(target - eye);
+  view.pose.position = eye;
+  view.pose.yaw_deg = glm::degrees(std::atan2(d.z, d.x));
+  view.pose.pitch_deg = glm::degrees(std::asin(d.y));
+  return view;
 }
 
 Scene make_box_row(int boxes) {

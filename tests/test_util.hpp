@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "farfield/core/view.hpp"
 #include "farfield/gpu/device.hpp"
 #include "farfield/scene/scene.hpp"
 #include "farfield/scene/simplify.hpp"
@@ -32,6 +33,8 @@ void add_cuboid(SceneBuilder& b, const glm::vec3& lo, const glm::vec3& hi);
 
 // `boxes` unit cubes along X, one object each, alternating an opaque and a transparent material.
 Scene make_box_row(int boxes);
+// A 128 x 96 view (small images keep llvmpipe fast) from `eye` towards `target`.
+View look_at(const glm::vec3& eye, const glm::vec3& target);
 
 // One untextured unit box, then a 2 m textured quad facing +Z at z = 3 with a 4 x 4 checker
 // texture (PNG, black and white texels), material alpha mode `mode`.

@@ -89,6 +89,9 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
                 "Before the techniques, time a fixed workload of the budget's length (30 ms "
                 "without one) on every core once per path frame, and report its share of "
                 "rounds over 1.1x its median: the machine's own noise, under any technique's");
+  cmd->add_flag("--expand-instances", s->bench.expand_instances,
+                "Upload every instance (an object repeating another's model, docs/scene.md) as "
+                "geometry of its own instead of drawing it from its prototype's, to compare");
   cmd->add_option("--cache-mb", s->bench.cache_mb,
                   "Leave the scene's geometry in its file and walk it through a cache of this "
                   "many MB of GPU meshes, read on demand on a background thread: scenes larger "

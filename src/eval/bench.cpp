@@ -402,7 +402,10 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
 
   auto context = gpu::create_headless_context();
   if (!context) return context.error();
-  auto renderer = gpu::Renderer::create(scene);
+  auto renderer = gpu::Renderer::create(scene, gpu::kSceneChunkBytes,
+                                        options.expand_instances
+                                            ? gpu::InstanceDrawing::expanded
+                                            : gpu::InstanceDrawing::placed);
   if (!renderer) return renderer.error();
   (*renderer)->set_offscreen(options.width, options.height);
   (*renderer)->set_light(options.light_heading_deg, options.light_elevation_deg);
@@ -410,6 +413,8 @@ Result<BenchReport> run_bench(const Scene& scene, const CameraPath& path,
   BenchReport report;
   report.renderer = (*context)->renderer_name();
   report.scene_texture_gpu_bytes = (*renderer)->scene_texture_bytes();
+  report.scene_geometry_gpu_bytes = (*renderer)->scene_geometry_bytes();
+  report.instances_placed = (*renderer)->draws_instanced() ? scene.instances.size() : 0;
   report.scene_triangles = on_disk ? on_disk->triangle_count() : scene.triangle_count();
   report.interleaved = options.interleave;
   report.pipelined = options.pipelined;

@@ -32,7 +32,9 @@ std::string bench_json(const BenchReport& report, const BenchOptions& options, c
                    {"textures", scene.textures.size()},
                    {"texels", texels},
                    {"texture_bytes", scene.texture_bytes()},
-                   {"texture_gpu_bytes", report.scene_texture_gpu_bytes}};
+                   {"texture_gpu_bytes", report.scene_texture_gpu_bytes},
+                   {"geometry_gpu_bytes", report.scene_geometry_gpu_bytes},
+                   {"instances_placed", report.instances_placed}};
   root["path"] = {{"kind", path.kind}, {"frames", path.frames.size()}};
   root["width"] = options.width;
   root["height"] = options.height;

@@ -21,6 +21,7 @@
 #include "farfield/core/assert.hpp"
 #include "farfield/gpu/lighting.hpp"
 #include "farfield/gpu/scene_chunks.hpp"
+#include "farfield/scene/instances.hpp"
 #include "gpu_resources.hpp"
 #include "scene_textures.hpp"
 #include "shaders.hpp"
@@ -38,6 +39,32 @@ struct DrawCommand {
   GLuint base_instance;  // the material: selects the instanced material colour
 };
 static_assert(sizeof(DrawCommand) == 20);
+
+// A draw command's placement (PLACED programs, binding 5, one per draw record): the rows of
+// its 3 x 4 affine matrix and of its normals' matrix (w unused).
+struct Placement {
+  glm::vec4 rows[3];
+  glm::vec4 normal_rows[3];
+};
+static_assert(sizeof(Placement) == 96);
+
+Placement identity_placement() {
+  Placement p{};
+  for (int i = 0; i < 3; ++i) p.rows[i][i] = p.normal_rows[i][i] = 1.0f;
+  return p;
+}
+
+// An instance's: positions by linear then offset, normals by linear's inverse transpose.
+Placement placement_of(const Instance& instance) {
+  const glm::mat3 normal = glm::transpose(glm::inverse(instance.linear));
+  Placement p{};
+  for (int i = 0; i < 3; ++i) {  // glm is column-major: row i is [c][i] over the columns c
+    p.rows[i] = {instance.linear[0][i], instance.linear[1][i], instance.linear[2][i],
+                 instance.offset[i]};
+    p.normal_rows[i] = {normal[0][i], normal[1][i], normal[2][i], 0.0f};
+  }
+  return p;
+}
 
 struct QuadVertex {
   glm::vec3 position;
@@ -79,6 +106,77 @@ struct Renderer::State {
     GLuint indexed_vao = 0;  // the same, its indices from indexed_buffer (DrawList::scene_indices)
   };
   std::vector<Chunk> chunks;
+  // Drawn instanced (Scene::instances): the chunks hold the scene's stored form
+  // (instances.hpp), where an instance has no geometry of its own, and an instance's draws
+  // read its prototype's indices with its placement (PLACED programs). Index and vertex
+  // numbers of the scene as held map to the uploaded ones by segments, sorted: runs of objects
+  // drawn as they are (consecutive in both numberings) and single instances. Empty: the chunks
+  // hold the scene as it is (no instances, or InstanceDrawing::expanded).
+  static constexpr uint32_t kOwn = UINT32_MAX;
+  struct Segment {
+    uint32_t held_first, count, uploaded_first;
+    uint32_t instance;  // kOwn: objects drawn as they are; else into Scene::instances
+  };
+  std::vector<Segment> index_segments, vertex_segments;
+  std::vector<uint32_t> instance_materials;  // per instance, its object's material
+  // Draw records (a command's baseInstance: material colour, texturing, placement): the
+  // materials, then the white one, then per instance two, in its material and in white.
+  std::vector<Placement> placements;  // per record; empty where nothing is placed
+  GLuint placement_buffer = 0;
+  GLuint command_placement_buffer = 0;  // the visibility pass's, per command
+  size_t command_placement_capacity = 0;
+  uint64_t geometry_bytes = 0;  // of the chunks' buffers
+  bool placed() const { return !index_segments.empty(); }
+  uint32_t instance_record(uint32_t instance, bool white) const {
+    return white_material + 1 + 2 * instance + (white ? 1 : 0);
+  }
+  static const Segment& segment_of(const std::vector<Segment>& segments, uint32_t held) {
+    const auto after =
+        std::upper_bound(segments.begin(), segments.end(), held,
+                         [](uint32_t v, const Segment& g) { return v < g.held_first; });
+    FF_ASSERT(after != segments.begin(), "number %u before every segment", held);
+    const Segment& g = *(after - 1);
+    FF_ASSERT(held < g.held_first + g.count, "number %u past every segment", held);
+    return g;
+  }
+  // A piece of a scene range that one command draws: `count` indices from the held scene's
+  // `held_at`, which are the uploaded `uploaded_at` of chunk `chunk`, with draw record `record`.
+  struct Piece {
+    uint32_t held_at, uploaded_at, count;
+    size_t chunk;
+    uint32_t record;
+  };
+  // The pieces of held indices [first, first + count) of `material`, split at instances and
+  // chunks; `white`: drawn in the white material (draw_everything_at_once).
+  template <class F>
+  void for_each_piece(uint32_t first, uint32_t count, uint32_t material, bool white,
+                      F&& f) const {
+    for (uint32_t at = first, end = first + count; at < end;) {
+      uint32_t stop = end, uploaded = at, record = white ? white_material : material;
+      if (placed()) {
+        const Segment& g = segment_of(index_segments, at);
+        stop = std::min(end, g.held_first + g.count);
+        uploaded = g.uploaded_first + (at - g.held_first);
+        if (g.instance != kOwn) {
+          FF_ASSERT(white || material == instance_materials[g.instance],
+                    "range of material %u over instance %u, whose material is %u", material,
+                    g.instance, instance_materials[g.instance]);
+          record = instance_record(g.instance, white);
+        }
+      }
+      const size_t c = chunk_of(chunk_ranges, uploaded);
+      const SceneChunk& chunk = chunk_ranges[c];
+      FF_ASSERT(uploaded >= chunk.first_index && uploaded < chunk.first_index + chunk.index_count,
+                "range [%u, %u) outside every chunk", at, end);
+      const uint32_t n = std::min(stop - at, chunk.first_index + chunk.index_count - uploaded);
+      f(Piece{at, uploaded, n, c, record});
+      at += n;
+    }
+  }
+  // This frame's DrawList::scene_indices in uploaded vertex numbers, and per triangle its
+  // instance (kOwn: none): placed scenes only (else the list's own are drawn).
+  std::vector<uint32_t> placed_indices;
+  std::vector<uint32_t> triangle_instances;
   // How a material is drawn: its texture array (-1: untextured) and whether back faces are
   // drawn (double-sided). Ordered: opaque ranges are grouped by it.
   struct Drawing {
@@ -164,6 +262,8 @@ struct Renderer::State {
       glDeleteVertexArrays(2, chunk_vaos);
     }
     glDeleteBuffers(1, &indexed_buffer);
+    glDeleteBuffers(1, &placement_buffer);
+    glDeleteBuffers(1, &command_placement_buffer);
     const GLuint buffers[] = {material_buffer, indirect_buffer,       stream_buffer,
                               quad_buffer,     line_buffer,           texturing_buffer,
                               occupancy_buffer, first_triangle_buffer};
@@ -214,20 +314,16 @@ struct Renderer::State {
                 "range [%u, +%u) material %u outside the scene's %u indices and %u materials",
                 r.first_index, r.index_count, r.material, index_count, white_material);
       const Drawing drawing = drawings[r.material];
-      for (uint32_t at = r.first_index, end = r.first_index + r.index_count; at < end;) {
-        const size_t c = chunk_of(chunk_ranges, at);
-        const SceneChunk& chunk = chunks[c].range;
-        const uint32_t stop = std::min(end, chunk.first_index + chunk.index_count);
-        FF_ASSERT(at >= chunk.first_index && stop > at, "range [%u, %u) outside every chunk", at,
-                  end);
-        if (batches.empty() || batches.back().vao != chunks[c].vao ||
+      for_each_piece(r.first_index, r.index_count, r.material, false, [&](const Piece& p) {
+        const SceneChunk& chunk = chunk_ranges[p.chunk];
+        const GLuint chunk_vao = chunks[p.chunk].vao;
+        if (batches.empty() || batches.back().vao != chunk_vao ||
             batches.back().drawing != drawing)
-          batches.push_back({chunks[c].vao, commands.size(), 0, drawing});
-        commands.push_back(
-            {stop - at, 1, at - chunk.first_index, -GLint(chunk.first_vertex), r.material});
+          batches.push_back({chunk_vao, commands.size(), 0, drawing});
+        commands.push_back({p.count, 1, p.uploaded_at - chunk.first_index,
+                            -GLint(chunk.first_vertex), p.record});
         batches.back().count++;
-        at = stop;
-      }
+      });
     }
   }
 
@@ -251,19 +347,48 @@ struct Renderer::State {
                 "indexed run [%u, +%u) material %u outside the list's %zu indices", r.first_index,
                 r.index_count, r.material, list.scene_indices.size());
       const Drawing drawing = drawings[r.material];
+      const std::vector<uint32_t>& indices = placed() ? placed_indices : list.scene_indices;
+      // A command per run of triangles in one chunk and of one instance (or none).
+      const auto instance = [&](uint32_t at) {
+        return placed() ? triangle_instances[at / 3] : kOwn;
+      };
       for (uint32_t at = r.first_index, end = r.first_index + r.index_count; at < end;) {
-        const size_t c = chunk_of_vertex(chunk_ranges, list.scene_indices[at]);
+        const size_t c = chunk_of_vertex(chunk_ranges, indices[at]);
+        const uint32_t own = instance(at);
         uint32_t stop = at + 3;
-        while (stop < end && chunk_of_vertex(chunk_ranges, list.scene_indices[stop]) == c)
+        while (stop < end && chunk_of_vertex(chunk_ranges, indices[stop]) == c &&
+               instance(stop) == own)
           stop += 3;
         if (batches.empty() || batches.back().vao != chunks[c].indexed_vao ||
             batches.back().drawing != drawing)
           batches.push_back({chunks[c].indexed_vao, commands.size(), 0, drawing});
-        commands.push_back(
-            {stop - at, 1, at, -GLint(chunk_ranges[c].first_vertex), r.material});
+        FF_ASSERT(own == kOwn || r.material == instance_materials[own],
+                  "indexed run of material %u over instance %u, whose material is %u",
+                  r.material, own, own == kOwn ? 0 : instance_materials[own]);
+        commands.push_back({stop - at, 1, at, -GLint(chunk_ranges[c].first_vertex),
+                            own == kOwn ? r.material : instance_record(own, false)});
         batches.back().count++;
         at = stop;
       }
+    }
+  }
+
+  // Placed scenes: the list's scene_indices in uploaded vertex numbers, and their triangles'
+  // instances (a triangle's corners lie in one object).
+  void place_scene_indices(const DrawList& list) {
+    if (!placed()) return;
+    const std::vector<uint32_t>& held = list.scene_indices;
+    FF_ASSERT(held.size() % 3 == 0, "%zu scene indices", held.size());
+    placed_indices.resize(held.size());
+    triangle_instances.resize(held.size() / 3);
+    for (size_t t = 0; t < held.size(); t += 3) {
+      const Segment& g = segment_of(vertex_segments, held[t]);
+      for (size_t k = t; k < t + 3; ++k) {
+        FF_ASSERT(held[k] >= g.held_first && held[k] < g.held_first + g.count,
+                  "triangle %zu of the list's scene indices spans objects", t / 3);
+        placed_indices[k] = g.uploaded_first + (held[k] - g.held_first);
+      }
+      triangle_instances[t / 3] = g.instance;
     }
   }
 
@@ -278,9 +403,9 @@ struct Renderer::State {
       FF_ASSERT(made.ok(), "%s", made.error().message.c_str());
       for (const Chunk& c : chunks) glVertexArrayElementBuffer(c.indexed_vao, indexed_buffer);
     }
-    glNamedBufferSubData(indexed_buffer, 0,
-                         GLsizeiptr(list.scene_indices.size() * sizeof(uint32_t)),
-                         list.scene_indices.data());
+    const std::vector<uint32_t>& indices = placed() ? placed_indices : list.scene_indices;
+    glNamedBufferSubData(indexed_buffer, 0, GLsizeiptr(indices.size() * sizeof(uint32_t)),
+                         indices.data());
   }
 
   // A range of a scene mesh: one command, indices from the mesh's start.
@@ -311,6 +436,7 @@ struct Renderer::State {
     set_attribute(vao, kNormalAttrib, 4, GL_INT_2_10_10_10_REV, GL_TRUE, offsetof(Vertex, normal));
     set_attribute(vao, kColorAttrib, 4, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(Vertex, color));
     set_attribute(vao, kMaterialAttrib, 4, GL_FLOAT, GL_FALSE, 0, 1);  // per instance
+    if (placement_buffer) bind_placements(vao, placement_buffer);
     if (!textures) return;
     glVertexArrayVertexBuffer(vao, 2, texturing_buffer, 0, sizeof(MaterialTexturing));
     glVertexArrayBindingDivisor(vao, 2, 1);
@@ -319,6 +445,18 @@ struct Renderer::State {
     glVertexArrayAttribBinding(vao, kTexturingAttrib, 2);
     set_attribute(vao, kCutoffAttrib, 1, GL_FLOAT, GL_FALSE, offsetof(MaterialTexturing, cutoff),
                   2);
+  }
+
+  // Binding 5 of a scene vertex array: placements, one per draw record (PLACED programs).
+  static void bind_placements(GLuint vao, GLuint buffer) {
+    glVertexArrayVertexBuffer(vao, 5, buffer, 0, sizeof(Placement));
+    glVertexArrayBindingDivisor(vao, 5, 1);
+    for (GLuint i = 0; i < 3; ++i) {
+      set_attribute(vao, kPlacementAttrib + i, 4, GL_FLOAT, GL_FALSE,
+                    offsetof(Placement, rows) + i * sizeof(glm::vec4), 5);
+      set_attribute(vao, kNormalPlacementAttrib + i, 3, GL_FLOAT, GL_FALSE,
+                    offsetof(Placement, normal_rows) + i * sizeof(glm::vec4), 5);
+    }
   }
 
   void draw_scene_batches(const std::vector<SceneBatch>& batches,
@@ -657,7 +795,27 @@ struct Renderer::State {
 Renderer::Renderer() : state_(std::make_unique<State>()) {}
 Renderer::~Renderer() = default;
 
-Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t chunk_bytes) {
+namespace {
+
+// What the chunks of a scene drawn instanced hold: its stored form (instances.hpp), the
+// instances' objects left without indices so that no chunk plans them.
+Scene uploaded_form(const Scene& scene) {
+  StoredForm stored = stored_form(scene);
+  Scene uploaded;
+  uploaded.objects = std::move(stored.objects);
+  for (const Instance& i : scene.instances) uploaded.objects[i.object].index_count = 0;
+  uploaded.vertices = std::move(stored.vertices);
+  uploaded.indices = std::move(stored.indices);
+  uploaded.uvs = std::move(stored.uvs);
+  uploaded.materials = scene.materials;
+  uploaded.names = scene.names;
+  return uploaded;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t chunk_bytes,
+                                                   InstanceDrawing instance_drawing) {
   FF_ASSERT(epoxy_gl_version() >= 45, "needs a current OpenGL 4.5 context (version %d)",
             epoxy_gl_version());
   FF_ASSERT(scene.indices.size() <= UINT32_MAX, "%zu indices", scene.indices.size());
@@ -668,10 +826,61 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
   s.white_material = uint32_t(materials.size());
   materials.push_back(Material{glm::vec4(1.0f)});
   s.index_count = uint32_t(scene.indices.size());
+  // Instances drawn instanced: the chunks hold the stored form, the segments map onto it.
+  const bool placed = instance_drawing == InstanceDrawing::placed && !scene.instances.empty() &&
+                      !scene.indices.empty();
+  Scene stored;
+  if (placed) {
+    stored = uploaded_form(scene);
+    size_t next = 0;  // into scene.instances
+    for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+      const Object& held = scene.objects[i];
+      const Object& up = stored.objects[i];
+      const bool instance = next < scene.instances.size() && scene.instances[next].object == i;
+      const uint32_t k = instance ? uint32_t(next++) : State::kOwn;
+      if (instance) s.instance_materials.push_back(held.material);
+      const auto add = [&](std::vector<State::Segment>& segments, uint32_t held_first,
+                           uint32_t count, uint32_t uploaded_first) {
+        if (count == 0) return;
+        State::Segment* last = segments.empty() ? nullptr : &segments.back();
+        if (k == State::kOwn && last && last->instance == State::kOwn &&
+            last->held_first + last->count == held_first &&
+            last->uploaded_first + last->count == uploaded_first) {
+          last->count += count;
+          return;
+        }
+        segments.push_back({held_first, count, uploaded_first, k});
+      };
+      add(s.index_segments, held.first_index, held.index_count, up.first_index);
+      add(s.vertex_segments, held.first_vertex, held.vertex_count, up.first_vertex);
+    }
+    std::sort(s.index_segments.begin(), s.index_segments.end(),
+              [](const State::Segment& a, const State::Segment& b) {
+                return a.held_first < b.held_first;
+              });
+    std::sort(s.vertex_segments.begin(), s.vertex_segments.end(),
+              [](const State::Segment& a, const State::Segment& b) {
+                return a.held_first < b.held_first;
+              });
+    // Draw records past the materials and the white one: per instance its material, white.
+    s.placements.assign(materials.size(), identity_placement());
+    for (size_t k = 0; k < scene.instances.size(); ++k) {
+      const Placement p = placement_of(scene.instances[k]);
+      materials.push_back(scene.materials[s.instance_materials[k]]);
+      materials.push_back(Material{glm::vec4(1.0f)});
+      s.placements.push_back(p);
+      s.placements.push_back(p);
+    }
+    if (auto made = make_buffer(s.placement_buffer, "placement buffer",
+                                s.placements.size() * sizeof(Placement), s.placements.data(), 0);
+        !made)
+      return made.error();
+  }
+  const Scene& uploaded = placed ? stored : scene;
   // A scene without geometry (its index, the geometry left on disk) gets no buffers: its
   // objects are drawn from scene meshes (streamed through gpu/mesh_pool.hpp).
-  if (!scene.indices.empty()) {
-    auto planned = plan_scene_chunks(scene, chunk_bytes);
+  if (!uploaded.indices.empty()) {
+    auto planned = plan_scene_chunks(uploaded, chunk_bytes);
     if (!planned) return planned.error();
     s.chunk_ranges = std::move(*planned);
   }
@@ -681,7 +890,8 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
     return made.error();
   const bool textured = std::any_of(scene.materials.begin(), scene.materials.end(),
                                     [](const Material& m) { return m.textured(); });
-  for (const Material& m : materials) {
+  for (uint32_t i = 0; i <= s.white_material; ++i) {
+    const Material& m = materials[i];
     s.drawings.push_back({-1, m.double_sided != 0});
     s.see_through.push_back(m.transparent() || m.alpha_mode == AlphaMode::mask);
   }
@@ -691,6 +901,10 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
     s.textures = std::make_unique<SceneTextures>(std::move(*textures));
     std::vector<MaterialTexturing> texturing = s.textures->materials();
     texturing.push_back({});  // the white material: untextured
+    for (uint32_t material : s.instance_materials) {  // the instances' records
+      texturing.push_back(s.textures->materials()[material]);
+      texturing.push_back({});
+    }
     if (auto made = make_buffer(s.texturing_buffer, "material texturing buffer",
                                 texturing.size() * sizeof(MaterialTexturing), texturing.data(), 0);
         !made)
@@ -706,12 +920,12 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
     c.range = range;
     if (auto made = make_buffer(c.vertex_buffer, "vertex buffer",
                                 size_t(range.vertex_count) * sizeof(Vertex),
-                                scene.vertices.data() + range.first_vertex, 0);
+                                uploaded.vertices.data() + range.first_vertex, 0);
         !made)
       return made.error();
     if (auto made = make_buffer(c.index_buffer, "index buffer",
                                 size_t(range.index_count) * sizeof(uint32_t),
-                                scene.indices.data() + range.first_index, 0);
+                                uploaded.indices.data() + range.first_index, 0);
         !made)
       return made.error();
     glCreateVertexArrays(1, &c.vao);
@@ -719,8 +933,11 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
     glVertexArrayElementBuffer(c.vao, c.index_buffer);
     s.bind_scene_attributes(c.vao);
     if (textured)
-      if (auto ok = add_texture_coordinates(scene, c.vao, range, c.uv_buffer); !ok)
+      if (auto ok = add_texture_coordinates(uploaded, c.vao, range, c.uv_buffer); !ok)
         return ok.error();
+    s.geometry_bytes += uint64_t(range.vertex_count) * (sizeof(Vertex) +
+                                                        (c.uv_buffer ? sizeof(glm::vec2) : 0)) +
+                        uint64_t(range.index_count) * sizeof(uint32_t);
     glCreateVertexArrays(1, &c.indexed_vao);
     glVertexArrayVertexBuffer(c.indexed_vao, 0, c.vertex_buffer, 0, sizeof(Vertex));
     s.bind_scene_attributes(c.indexed_vao);
@@ -731,11 +948,11 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
   }
   glCreateVertexArrays(1, &s.vao);
 
-  s.program = build_scene_program();
-  s.faded_program = build_scene_program(true);
+  s.program = build_scene_program(false, placed);
+  s.faded_program = build_scene_program(true, placed);
   if (textured) {
-    s.textured_scene_program = build_textured_scene_program();
-    s.faded_textured_program = build_textured_scene_program(true);
+    s.textured_scene_program = build_textured_scene_program(false, placed);
+    s.faded_textured_program = build_textured_scene_program(true, placed);
   }
   const std::array<glm::vec3, 2> lights = light_directions();
   for (GLuint p : s.scene_programs()) {
@@ -788,6 +1005,7 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
   s.commands.clear();
   s.add_scene_ranges(list.opaque, s.opaque_batches, true);
   s.add_scene_ranges(list.transparent, s.transparent_batches, false);
+  s.place_scene_indices(list);
   s.add_indexed_runs(list, list.indexed_opaque, s.opaque_batches, true);
   s.add_indexed_runs(list, list.indexed_transparent, s.transparent_batches, false);
   s.add_faded_ranges(list.faded);
@@ -829,14 +1047,17 @@ std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawLi
                                                   const glm::ivec2* pixel) {
   State& s = *state_;
   if (s.visibility_depth_program == 0) {
-    s.visibility_depth_program = build_visibility_depth_program();
-    s.visibility_mark_program = build_visibility_mark_program();
+    s.visibility_depth_program = build_visibility_depth_program(s.placed());
+    s.visibility_mark_program = build_visibility_mark_program(s.placed());
   }
   // Commands by kind: opaque one-sided, opaque two-sided, see-through; each command's
-  // baseInstance is its own number, which reads its first triangle.
+  // baseInstance is its own number, which reads its first triangle (of the scene as held)
+  // and, in a placed scene, its placement.
   struct Command {
     DrawCommand command;
     size_t chunk;
+    uint32_t held_first;  // index
+    uint32_t record;
   };
   std::vector<Command> kinds[3];
   std::vector<uint32_t> firsts;
@@ -858,21 +1079,22 @@ std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawLi
                 "range [%u, +%u) material %u outside the scene", r.first_index, r.index_count,
                 r.material);
       const int kind = s.see_through[r.material] ? 2 : s.drawings[r.material].double_sided ? 1 : 0;
-      for (uint32_t at = r.first_index, end = r.first_index + r.index_count; at < end;) {
-        const size_t c = chunk_of(s.chunk_ranges, at);
-        const SceneChunk& chunk = s.chunks[c].range;
-        const uint32_t stop = std::min(end, chunk.first_index + chunk.index_count);
-        kinds[kind].push_back(
-            {{stop - at, 1, at - chunk.first_index, -GLint(chunk.first_vertex), 0}, c});
-        at = stop;
-      }
+      s.for_each_piece(r.first_index, r.index_count, r.material, false,
+                       [&](const State::Piece& p) {
+                         const SceneChunk& chunk = s.chunk_ranges[p.chunk];
+                         kinds[kind].push_back({{p.count, 1, p.uploaded_at - chunk.first_index,
+                                                 -GLint(chunk.first_vertex), 0},
+                                                p.chunk, p.held_at, p.record});
+                       });
     }
   std::vector<DrawCommand> commands;
+  std::vector<Placement> placements;  // per command, placed scenes only
   for (auto& k : kinds)
     for (Command& c : k) {
       c.command.base_instance = GLuint(commands.size());
       commands.push_back(c.command);
-      firsts.push_back((s.chunks[c.chunk].range.first_index + c.command.first_index) / 3);
+      firsts.push_back(c.held_first / 3);
+      if (s.placed()) placements.push_back(s.placements[c.record]);
     }
   const size_t words = (size_t(s.index_count / 3) + 31) / 32;
   std::vector<uint32_t> visible;
@@ -900,7 +1122,20 @@ std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawLi
   }
   const GLuint zero = 0;
   glClearNamedBufferData(s.occupancy_buffer, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  if (s.placed()) {
+    if (placements.size() > s.command_placement_capacity) {
+      s.command_placement_capacity = std::bit_ceil(placements.size());
+      glDeleteBuffers(1, &s.command_placement_buffer);
+      const Result<void> made = make_buffer(s.command_placement_buffer, "command placements",
+                                            s.command_placement_capacity * sizeof(Placement),
+                                            nullptr, GL_DYNAMIC_STORAGE_BIT);
+      FF_ASSERT(made.ok(), "%s", made.error().message.c_str());
+    }
+    glNamedBufferSubData(s.command_placement_buffer, 0,
+                         GLsizeiptr(placements.size() * sizeof(Placement)), placements.data());
+  }
   for (const State::Chunk& c : s.chunks) {
+    if (s.placed()) State::bind_placements(c.vao, s.command_placement_buffer);
     glVertexArrayVertexBuffer(c.vao, 4, s.first_triangle_buffer, 0, sizeof(uint32_t));
     glVertexArrayBindingDivisor(c.vao, 4, 1);
     glEnableVertexArrayAttrib(c.vao, kFirstTriangleAttrib);
@@ -953,7 +1188,10 @@ std::vector<uint32_t> Renderer::visible_triangles(const View& view, const DrawLi
   glEnable(GL_CULL_FACE);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   // The other programs read no first triangle: the arrays fetch it only for this pass.
-  for (const State::Chunk& c : s.chunks) glDisableVertexArrayAttrib(c.vao, kFirstTriangleAttrib);
+  for (const State::Chunk& c : s.chunks) {
+    glDisableVertexArrayAttrib(c.vao, kFirstTriangleAttrib);
+    if (s.placed()) State::bind_placements(c.vao, s.placement_buffer);
+  }
   glDepthMask(GL_TRUE);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDisable(GL_SCISSOR_TEST);
@@ -1040,12 +1278,56 @@ uint64_t Renderer::resource_bytes() const {
   return state_->resources.bytes();
 }
 
+uint64_t Renderer::scene_geometry_bytes() const {
+  return state_->geometry_bytes;
+}
+
+bool Renderer::draws_instanced() const {
+  return state_->placed();
+}
+
 void Renderer::finish() {
   glFinish();
 }
 
 FrameStats Renderer::draw_everything_at_once(const View& view) {
   State& s = *state_;
+  if (s.placed()) {
+    // The prototypes' geometry once and every instance's again, a multi-draw a chunk.
+    s.commands.clear();
+    std::vector<size_t> chunk_of_command;
+    s.for_each_piece(0, s.index_count, 0, true, [&](const State::Piece& p) {
+      const SceneChunk& chunk = s.chunk_ranges[p.chunk];
+      s.commands.push_back(
+          {p.count, 1, p.uploaded_at - chunk.first_index, -GLint(chunk.first_vertex), p.record});
+      chunk_of_command.push_back(p.chunk);
+    });
+    std::vector<size_t> order(s.commands.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return chunk_of_command[a] < chunk_of_command[b]; });
+    std::vector<DrawCommand> sorted;
+    for (size_t i : order) sorted.push_back(s.commands[i]);
+    s.reserve_commands(sorted.size());
+    if (!sorted.empty())
+      glNamedBufferSubData(s.indirect_buffer, 0, GLsizeiptr(sorted.size() * sizeof(DrawCommand)),
+                           sorted.data());
+    s.begin_frame(view.view_projection(), view.width, view.height);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, s.indirect_buffer);
+    uint64_t calls = 0;
+    for (size_t b = 0; b < order.size();) {
+      size_t e = b;
+      while (e < order.size() && chunk_of_command[order[e]] == chunk_of_command[order[b]]) ++e;
+      glBindVertexArray(s.chunks[chunk_of_command[order[b]]].vao);
+      glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                                  reinterpret_cast<const void*>(b * sizeof(DrawCommand)),
+                                  GLsizei(e - b), 0);
+      ++calls;
+      b = e;
+    }
+    glBindVertexArray(s.vao);
+    return s.end_frame({0.0, s.index_count / 3, std::max<uint64_t>(1, calls)});
+  }
   s.begin_frame(view.view_projection(), view.width, view.height);
   for (const State::Chunk& c : s.chunks) {
     glBindVertexArray(c.vao);

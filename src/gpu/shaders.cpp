@@ -26,6 +26,29 @@ bool faded_out() { return false; }
 #endif
 )";
 
+// Drawn instanced (Scene::instances): where PLACED is defined, every draw command also reads
+// (instanced attributes at its baseInstance, as the material) an affine placement of its
+// vertices, three rows of a 3 x 4 matrix, and the rows of its normals' matrix (the inverse
+// transpose of its linear part); objects drawn as they are read the identity, which changes
+// no bit of a position. Without PLACED (a scene without instances) the shaders are as before.
+constexpr const char* kPlacementFunctions = R"(#ifdef PLACED
+layout(location = 9) in vec4 placement_x;
+layout(location = 10) in vec4 placement_y;
+layout(location = 11) in vec4 placement_z;
+layout(location = 12) in vec3 normal_x;
+layout(location = 13) in vec3 normal_y;
+layout(location = 14) in vec3 normal_z;
+vec3 placed(vec3 p) {
+  vec4 q = vec4(p, 1.0);
+  return vec3(dot(placement_x, q), dot(placement_y, q), dot(placement_z, q));
+}
+vec3 placed_normal(vec3 n) { return vec3(dot(normal_x, n), dot(normal_y, n), dot(normal_z, n)); }
+#else
+vec3 placed(vec3 p) { return p; }
+vec3 placed_normal(vec3 n) { return n; }
+#endif
+)";
+
 // The material colour is an instanced attribute (divisor 1) read at the draw's baseInstance,
 // so every command of a multi-draw picks its material without gl_DrawID.
 constexpr const char* kVertexShader = R"(#version 450 core
@@ -38,8 +61,8 @@ invariant gl_Position;  // as the visibility pass's: the same depths, pixel for 
 out vec3 v_normal;
 out vec4 v_color;
 void main() {
-  gl_Position = view_projection * vec4(position, 1.0);
-  v_normal = normal;
+  gl_Position = view_projection * vec4(placed(position), 1.0);
+  v_normal = placed_normal(normal);
   v_color = vec4(color.rgb * material_color.rgb, material_color.a);
 }
 )";
@@ -87,8 +110,8 @@ out vec2 v_texcoord;
 flat out ivec3 v_texturing;
 flat out float v_cutoff;
 void main() {
-  gl_Position = view_projection * vec4(position, 1.0);
-  v_normal = normal;
+  gl_Position = view_projection * vec4(placed(position), 1.0);
+  v_normal = placed_normal(normal);
   v_color = vec4(color.rgb * material_color.rgb, material_color.a);
   v_texcoord = texcoord;
   v_texturing = texturing;
@@ -259,15 +282,24 @@ std::string with_fade(const char* source, bool faded) {
   return text;
 }
 
+// A scene vertex shader with kPlacementFunctions after its #version line, PLACED defined or not.
+std::string with_placement(const char* source, bool placed) {
+  std::string text = source;
+  text.insert(text.find('\n') + 1,
+              std::string(placed ? "#define PLACED\n" : "") + kPlacementFunctions);
+  return text;
+}
+
 }  // namespace
 
-GLuint build_scene_program(bool faded) {
-  return link(faded ? "faded scene" : "scene", kVertexShader,
+GLuint build_scene_program(bool faded, bool placed) {
+  return link(faded ? "faded scene" : "scene", with_placement(kVertexShader, placed).c_str(),
               with_fade(kFragmentShader, faded).c_str());
 }
 
-GLuint build_textured_scene_program(bool faded) {
-  return link(faded ? "faded textured scene" : "textured scene", kTexturedSceneVertexShader,
+GLuint build_textured_scene_program(bool faded, bool placed) {
+  return link(faded ? "faded textured scene" : "textured scene",
+              with_placement(kTexturedSceneVertexShader, placed).c_str(),
               with_fade(kTexturedSceneFragmentShader, faded).c_str());
 }
 
@@ -284,7 +316,7 @@ layout(location = 0) uniform mat4 view_projection;
 invariant gl_Position;
 flat out uint v_first;
 void main() {
-  gl_Position = view_projection * vec4(position, 1.0);
+  gl_Position = view_projection * vec4(placed(position), 1.0);
   v_first = first_triangle;
 }
 )";
@@ -307,12 +339,14 @@ void main() {
 
 }  // namespace
 
-GLuint build_visibility_depth_program() {
-  return link("visibility depth", kVisibilityVertexShader, kVisibilityDepthFragmentShader);
+GLuint build_visibility_depth_program(bool placed) {
+  return link("visibility depth", with_placement(kVisibilityVertexShader, placed).c_str(),
+              kVisibilityDepthFragmentShader);
 }
 
-GLuint build_visibility_mark_program() {
-  return link("visibility mark", kVisibilityVertexShader, kVisibilityMarkFragmentShader);
+GLuint build_visibility_mark_program(bool placed) {
+  return link("visibility mark", with_placement(kVisibilityVertexShader, placed).c_str(),
+              kVisibilityMarkFragmentShader);
 }
 
 GLuint build_quad_program() {

@@ -57,6 +57,9 @@ struct BenchOptions {
   // > 0: the scene's geometry stays in its file (run_bench's `on_disk`) and the techniques
   // walk it through a cache of this many MB of GPU meshes (--cache-mb).
   uint64_t cache_mb = 0;
+  // Upload every instance as geometry of its own instead of drawing it from its prototype's
+  // (gpu::InstanceDrawing::expanded), for comparison (--expand-instances).
+  bool expand_instances = false;
 };
 
 struct FrameRecord {
@@ -92,6 +95,8 @@ struct TechniqueRecord {
 struct BenchReport {
   std::string renderer;                  // GL_RENDERER
   uint64_t scene_texture_gpu_bytes = 0;  // the scene's texture arrays, mipmaps included
+  uint64_t scene_geometry_gpu_bytes = 0;  // the scene's own vertex, index and uv buffers
+  uint64_t instances_placed = 0;          // instances drawn from their prototypes' geometry
   uint64_t scene_triangles = 0;          // in memory or left on disk
   bool interleaved = false, pipelined = false;
   int width = 0, height = 0;

@@ -1,5 +1,6 @@
 // Draws a Scene's DrawLists with OpenGL 4.5 core. The whole scene lives in GPU buffers of at
-// most 1 GiB each (scene_chunks.hpp); a DrawList becomes multi-draw-indirect commands, opaque
+// most 1 GiB each (scene_chunks.hpp), an instance's geometry only once, its prototype's
+// (InstanceDrawing); a DrawList becomes multi-draw-indirect commands, opaque
 // ranges first, then transparent ranges blended without depth writes. Technique meshes and textures
 // are made through the Device interface and named by handle in the lists. Shading: paper 000,
 // Sec. 5.3, two directional lights opposite each other 14 degrees above the horizon, plus ambient;
@@ -38,12 +39,19 @@ struct FrameStats {
   double upload_ms = 0.0;   // CPU time taking in the list's uploads (textures and meshes)
 };
 
+// How a scene's instances (Scene::instances) are drawn: `placed`, their prototype's geometry
+// uploaded once and each instance's draws reading it with the instance's placement (a 3 x 4
+// matrix per draw command; a translated copy's positions come out bit for bit as held), or
+// `expanded`, every object's own geometry uploaded as held (for comparison).
+enum class InstanceDrawing : uint8_t { placed, expanded };
+
 class Renderer final : public Device {
  public:
   // Uploads the scene in chunks of at most `chunk_bytes` a buffer; fails (with the byte
   // count) when the GPU cannot hold it.
-  static Result<std::unique_ptr<Renderer>> create(const Scene& scene,
-                                                  uint64_t chunk_bytes = kSceneChunkBytes);
+  static Result<std::unique_ptr<Renderer>> create(
+      const Scene& scene, uint64_t chunk_bytes = kSceneChunkBytes,
+      InstanceDrawing instance_drawing = InstanceDrawing::placed);
   ~Renderer() override;
 
   Result<MeshHandle> create_mesh(std::span<const ProxyVertex> vertices,
@@ -110,6 +118,10 @@ class Renderer final : public Device {
   void set_texture_filter(TextureFilter filter);
   // GPU memory of the scene's textures (mipmaps included); 0 for an untextured scene.
   uint64_t scene_texture_bytes() const;
+  // GPU memory of the scene's own geometry (vertices, indices, texture coordinates).
+  uint64_t scene_geometry_bytes() const;
+  // Whether the scene's instances are drawn from their prototypes' geometry (InstanceDrawing).
+  bool draws_instanced() const;
   // The alpha the sky is cleared to (1 by default; 0 lets a bake find the empty pixels).
   void set_clear_alpha(float alpha);
 
