@@ -5,12 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "farfield/core/assert.hpp"
 #include "farfield/core/image_similarity.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/scene/city_generator.hpp"
+#include "farfield/scene/instances.hpp"
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
 #include "test_util.hpp"
@@ -144,6 +146,115 @@ TEST(AccuracyTableGL, ErrorsGrowAlongChainsAndSeeWhatGeometryMisses) {
   for (uint32_t box = 0; box < b.boxes.boxes.size(); ++box)
     differs += t.box(box, 0) != b.boxes.boxes[box].error_m;
   EXPECT_GT(differs, int(b.boxes.boxes.size()) / 2);
+}
+
+// A city block's largest building and two copies of it (Scene::instances), one moved and one
+// turned, baked as the clusters bake does (hierarchy, boxes, tables; the levels made once)
+// twice: as it is, and with the copies plain objects of their own. The moved copy is not rendered again: its
+// box and its errors are its prototype's, and they are what rendering it gives (sides of the
+// same size, texels and errors alike); the turned one is rendered.
+TEST(AccuracyTableGL, AMovedCopyTakesItsPrototypesBoxAndErrors) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  Progress quiet(true);
+  CityOptions o;
+  o.blocks_x = o.blocks_z = 1;
+  auto city = generate_city(o, quiet);
+  ASSERT_TRUE(city) << city.error().message;
+  Scene scene = std::move(*city);
+  uint32_t prototype = 0;
+  for (uint32_t i = 1; i < scene.objects.size(); ++i)
+    if (scene.objects[i].kind == ObjectKind::building &&
+        !scene.materials[scene.objects[i].material].transparent() &&
+        scene.objects[i].index_count > scene.objects[prototype].index_count)
+      prototype = i;
+  SceneBuilder builder(scene);
+  const uint32_t moved =
+      builder.add_instance("moved", ObjectKind::building, prototype, glm::mat3(1.0f), {300, 0, 7});
+  const uint32_t turned = builder.add_instance(
+      "turned", ObjectKind::building, prototype,
+      glm::mat3(glm::rotate(glm::mat4(1.0f), 0.5f, glm::vec3(0, 1, 0))), {-300, 0, 0});
+  struct Bake {
+    LodSet lods;
+    BoxSet boxes;
+    AccuracyTable table;
+  };
+  // The levels made once, from the scene with its copies (a copy simplified on its own may
+  // come out another mesh, and the tables compare their images).
+  auto lods = build_lod_set(scene, {}, quiet);
+  ASSERT_TRUE(lods) << lods.error().message;
+  auto bake = [&](const Scene& s) {
+    Bake b;
+    b.lods = *lods;
+    auto tree = build_cluster_tree(s, {}, quiet);
+    FF_ASSERT(tree.ok(), "tree");
+    auto renderer = gpu::Renderer::create(s);
+    FF_ASSERT(renderer.ok(), "renderer");
+    BoxSetOptions bo;
+    bo.min_triangles = 1;
+    auto boxes = bake_box_set(s, *tree, **renderer, bo, quiet);
+    FF_ASSERT(boxes.ok(), "boxes");
+    b.boxes = std::move(*boxes);
+    AccuracyOptions ao;
+    ao.directions = 8;
+    auto table = bake_accuracy_table(s, b.lods, *tree, b.boxes, **renderer, ao, quiet);
+    FF_ASSERT(table.ok(), "table");
+    b.table = std::move(*table);
+    return b;
+  };
+  const Bake shared = bake(scene);
+  Scene plain = scene;
+  plain.instances.clear();  // the copies' geometry is held: plain objects of their own
+  const Bake rendered = bake(plain);
+
+  const size_t k_count = 8;
+  for (const Bake* b : {&shared, &rendered})
+    for (uint32_t object : {prototype, moved, turned})
+      ASSERT_NE(b->boxes.object_box[object], BoxSet::kNone) << object;
+  auto box_of = [](const Bake& b, uint32_t object) { return b.boxes.object_box[object]; };
+  // Copied: the prototype's sides and texels, its errors, direction by direction.
+  const TexturedBox& ours = shared.boxes.boxes[box_of(shared, moved)];
+  const TexturedBox& theirs = shared.boxes.boxes[box_of(shared, prototype)];
+  EXPECT_FLOAT_EQ(ours.error_m, theirs.error_m);
+  const uint32_t levels = shared.lods.first_lod[prototype + 1] - shared.lods.first_lod[prototype];
+  ASSERT_GT(levels, 0u);
+  for (size_t k = 0; k < k_count; ++k) {
+    EXPECT_EQ(shared.table.box(box_of(shared, moved), k),
+              shared.table.box(box_of(shared, prototype), k));
+    for (uint32_t l = 0; l < levels; ++l)
+      EXPECT_EQ(shared.table.lod(shared.lods.first_lod[moved] + l, k),
+                shared.table.lod(shared.lods.first_lod[prototype] + l, k));
+  }
+  // What rendering the copy gives instead.
+  const TexturedBox& drawn = rendered.boxes.boxes[box_of(rendered, moved)];
+  EXPECT_NEAR(ours.error_m, drawn.error_m, 0.02f * drawn.error_m + 0.05f);
+  uint64_t texels = 0, apart = 0;
+  for (int side = 0; side < 6; ++side) {
+    const BoxSide &a = ours.sides[side], &b = drawn.sides[side];
+    ASSERT_EQ(a.w, b.w);
+    ASSERT_EQ(a.h, b.h);
+    for (int y = 0; y < a.h; ++y)
+      for (int x = 0; x < a.w; ++x)
+        for (int c = 0; c < 4; ++c) {
+          const auto texel = [&](const BoxSet& set, const TexturedBox& box, const BoxSide& s) {
+            return int(set.pages[box.page][(size_t(s.y + y) * set.page_px + s.x + x) * 4 + c]);
+          };
+          apart += std::abs(texel(shared.boxes, ours, a) - texel(rendered.boxes, drawn, b)) > 8;
+          ++texels;
+        }
+  }
+  ASSERT_GT(texels, 1000u);
+  EXPECT_LT(double(apart), 0.001 * double(texels));
+  for (size_t k = 0; k < k_count; ++k) {
+    const float size = glm::length(scene.objects[moved].bounds.size()) / 64.0f;  // a texel
+    EXPECT_NEAR(shared.table.box(box_of(shared, moved), k),
+                rendered.table.box(box_of(rendered, moved), k), size);
+    for (uint32_t l = 0; l < levels; ++l)
+      EXPECT_NEAR(shared.table.lod(shared.lods.first_lod[moved] + l, k),
+                  rendered.table.lod(rendered.lods.first_lod[moved] + l, k), size);
+  }
+  // The turned copy's box is its own: wider than its prototype's, seen along X.
+  EXPECT_NE(shared.boxes.boxes[box_of(shared, turned)].sides[4].w, theirs.sides[4].w);
 }
 
 TEST(AccuracyTableGL, KeptInAPackAndRefusedWhenDamaged) {

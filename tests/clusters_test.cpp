@@ -6,12 +6,17 @@
 #include <filesystem>
 #include <random>
 
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "farfield/core/assert.hpp"
 #include "farfield/core/view.hpp"
 #include "farfield/eval/image_metrics.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/scene/field_generator.hpp"
+#include "farfield/scene/instances.hpp"
+#include "farfield/scene/simplify.hpp"
 #include "farfield/scene/tree_generator.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/clusters/frame_cost.hpp"
@@ -109,6 +114,56 @@ TEST(LodSet, PagedInAnotherOrderKeepsEveryLevelsTriangles) {
     expected += paged.lods[k].index_count;
   }
   EXPECT_EQ(expected, paged.pages[0].index_count);
+}
+
+// Copies of a tree's largest part (Scene::instances), one moved and one turned and stretched:
+// neither is simplified again, each level is its prototype's moved, and its stored error,
+// stretched as the copy is, still bounds the distance between the copy and its level.
+TEST(LodSet, AnInstancesChainIsItsPrototypesMovedAndStillBoundsItsDistance) {
+  Scene scene = small_tree();
+  uint32_t prototype = 0;
+  for (uint32_t o = 1; o < scene.objects.size(); ++o)
+    if (scene.objects[o].index_count > scene.objects[prototype].index_count) prototype = o;
+  const glm::mat3 turned =
+      glm::mat3(glm::rotate(glm::mat4(1.0f), 0.7f, glm::normalize(glm::vec3(1, 2, 0)))) *
+      glm::mat3(glm::vec3(1.5f, 0, 0), glm::vec3(0, 0.6f, 0), glm::vec3(0, 0, 1.1f));
+  SceneBuilder b(scene);
+  const uint32_t moved =
+      b.add_instance("moved", ObjectKind::mesh, prototype, glm::mat3(1.0f), {30, 0, 4});
+  const uint32_t stretched =
+      b.add_instance("stretched", ObjectKind::mesh, prototype, turned, {-20, 3, 9});
+  Progress quiet(true);
+  auto set = build_lod_set(scene, {}, quiet);
+  ASSERT_TRUE(set) << set.error().message;
+  const uint32_t levels = set->first_lod[prototype + 1] - set->first_lod[prototype];
+  ASSERT_GT(levels, 1u);
+  for (uint32_t copy : {moved, stretched}) {
+    const Instance& instance = *instance_of(scene, copy);
+    const InstanceTransform move(instance);
+    const float stretch = float(largest_stretch(instance.linear));
+    ASSERT_EQ(set->first_lod[copy + 1] - set->first_lod[copy], levels);
+    const uint32_t ids[] = {copy};
+    const MeshPart full = gather_part(scene, ids, scene.objects[copy].material);
+    for (uint32_t l = 0; l < levels; ++l) {
+      const Lod& theirs = set->lods[set->first_lod[prototype] + l];
+      const Lod& ours = set->lods[set->first_lod[copy] + l];
+      SCOPED_TRACE(testing::Message() << "copy " << copy << ", level " << l);
+      EXPECT_EQ(ours.object, copy);
+      ASSERT_EQ(ours.index_count, theirs.index_count);
+      EXPECT_FLOAT_EQ(ours.error_m, theirs.error_m * stretch);
+      MeshPart level;
+      for (uint32_t i = 0; i < ours.index_count; ++i) {
+        const Vertex& v = set->vertices[set->indices[ours.first_index + i]];
+        EXPECT_EQ(v.position, move(set->vertices[set->indices[theirs.first_index + i]]).position);
+        level.vertices.push_back(v);
+        level.indices.push_back(i);
+      }
+      const float there = farthest_distance(test::random_surface_points(full, 4000, 1), level);
+      const float back = farthest_distance(test::random_surface_points(level, 4000, 2), full);
+      EXPECT_LE(there, ours.error_m * 1.001f + 1e-5f);
+      EXPECT_LE(back, ours.error_m * 1.001f + 1e-5f);
+    }
+  }
 }
 
 TEST(LodSet, KeptInAPackAndRefusedWhenDamaged) {

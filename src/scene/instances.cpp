@@ -22,11 +22,43 @@ Vertex InstanceTransform::operator()(const Vertex& v) const {
           v.color};
 }
 
+double largest_stretch(const glm::mat3& linear) {
+  // The largest eigenvalue of the symmetric A = L^T L, in closed form (trigonometric roots of
+  // its characteristic cubic), in double precision.
+  double a[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      a[i][j] = double(glm::dot(linear[i], linear[j]));  // glm: linear[c] is column c
+  const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+  double largest = std::max({a[0][0], a[1][1], a[2][2]});
+  if (off > 0.0) {
+    const double q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
+    const double p =
+        std::sqrt(((a[0][0] - q) * (a[0][0] - q) + (a[1][1] - q) * (a[1][1] - q) +
+                   (a[2][2] - q) * (a[2][2] - q) + 2.0 * off) /
+                  6.0);
+    double b[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) b[i][j] = (a[i][j] - (i == j ? q : 0.0)) / p;
+    const double det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) -
+                       b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
+                       b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
+    const double phi = std::acos(std::clamp(det / 2.0, -1.0, 1.0)) / 3.0;
+    largest = std::max(largest, q + 2.0 * p * std::cos(phi));
+  }
+  return std::sqrt(std::max(largest, 0.0));
+}
+
 const Instance* instance_of(const Scene& scene, uint32_t object) {
   const auto it = std::lower_bound(
       scene.instances.begin(), scene.instances.end(), object,
       [](const Instance& i, uint32_t o) { return i.object < o; });
   return it != scene.instances.end() && it->object == object ? &*it : nullptr;
+}
+
+const Instance* moved_copy_of(const Scene& scene, uint32_t object) {
+  const Instance* instance = instance_of(scene, object);
+  return instance && instance->linear == glm::mat3(1.0f) ? instance : nullptr;
 }
 
 StoredGeometry stored_geometry(const Scene& scene) {

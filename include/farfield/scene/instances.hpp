@@ -28,8 +28,16 @@ class InstanceTransform {
   bool identity_;
 };
 
+// The most a linear map stretches a distance: its largest singular value (1 for a rotation),
+// so that a distance bound on a prototype, times it, bounds the same on an instance.
+double largest_stretch(const glm::mat3& linear);
+
 // The instance of `object`, or null where it is not one (a binary search of the table).
 const Instance* instance_of(const Scene& scene, uint32_t object);
+
+// The instance of `object` where it is its prototype only moved, neither turned nor scaled
+// (what it looks like from any direction is then the prototype's, moved), else null.
+const Instance* moved_copy_of(const Scene& scene, uint32_t object);
 
 // What a scene file holds of a scene's geometry: every object's but the instances'.
 struct StoredGeometry {

@@ -12,6 +12,7 @@
 #include "farfield/core/image_similarity.hpp"
 #include "farfield/core/text.hpp"
 #include "farfield/gpu/renderer.hpp"
+#include "farfield/scene/instances.hpp"
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/object_set.hpp"
@@ -258,11 +259,29 @@ Result<AccuracyTable> bake_accuracy_table(const Scene& scene, const LodSet& lods
   };
   std::stable_sort(by_page.begin(), by_page.end(),
                    [&](uint32_t l, uint32_t r) { return first_page(l) < first_page(r); });
+  // A copy only moved (instances.hpp: moved_copy_of) whose representations match its
+  // prototype's, level for level and box for box, is seen from every direction as the
+  // prototype is: it takes the prototype's errors instead of being rendered again.
+  auto copied_from = [&](uint32_t obj) -> const Instance* {
+    const Instance* copy = moved_copy_of(scene, obj);
+    if (!copy) return nullptr;
+    const uint32_t p = copy->prototype;
+    const bool same = lods.first_lod[obj + 1] - lods.first_lod[obj] ==
+                          lods.first_lod[p + 1] - lods.first_lod[p] &&
+                      (boxes.object_box[obj] == BoxSet::kNone) ==
+                          (boxes.object_box[p] == BoxSet::kNone);
+    return same ? copy : nullptr;
+  };
   for (size_t i = 0; i < by_page.size(); ++i) {
     const uint32_t obj = by_page[i];
     const uint32_t begin = lods.first_lod[obj], end = lods.first_lod[obj + 1];
     const uint32_t box = boxes.object_box[obj];
     if (begin == end && box == BoxSet::kNone) continue;
+    if (copied_from(obj)) {
+      progress.advance();
+      lod_pages.free_before(i + 1 < by_page.size() ? first_page(by_page[i + 1]) : UINT32_MAX);
+      continue;
+    }
     const Object& object = scene.objects[obj];
     full.clear();
     objects.clear();
@@ -289,6 +308,16 @@ Result<AccuracyTable> bake_accuracy_table(const Scene& scene, const LodSet& lods
     // The objects after this one begin at their finest level's page.
     lod_pages.free_before(i + 1 < by_page.size() ? first_page(by_page[i + 1]) : UINT32_MAX);
   }
+  for (const Instance& instance : scene.instances)
+    if (copied_from(instance.object)) {
+      const uint32_t obj = instance.object, p = instance.prototype;
+      std::copy_n(&table.lod_error[size_t(lods.first_lod[p]) * k_count],
+                  size_t(lods.first_lod[p + 1] - lods.first_lod[p]) * k_count,
+                  &table.lod_error[size_t(lods.first_lod[obj]) * k_count]);
+      if (boxes.object_box[obj] != BoxSet::kNone)
+        std::copy_n(&table.box_error[size_t(boxes.object_box[p]) * k_count], k_count,
+                    &table.box_error[size_t(boxes.object_box[obj]) * k_count]);
+    }
   // Nodes are breadth first, their pages in the same order.
   for (uint32_t n = 0; n < tree.nodes.size(); ++n) {
     const ClusterNode& node = tree.nodes[n];

@@ -14,6 +14,7 @@
 #include "farfield/core/shelf_packer.hpp"
 #include "farfield/core/text.hpp"
 #include "farfield/gpu/renderer.hpp"
+#include "farfield/scene/instances.hpp"
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
 #include "farfield/techniques/object_set.hpp"
@@ -258,11 +259,27 @@ Result<BoxSet> bake_box_set(const Scene& scene, const ClusterTree& tree, gpu::Re
   DrawList list;
   SideImage images[6];
   renderer.set_clear_alpha(0.0f);
+  // A copy only moved (instances.hpp: moved_copy_of) looks from every side as its prototype
+  // does: its box takes the prototype's images and error instead of rendering them again.
+  std::vector<uint32_t> source(subjects.size(), BoxSet::kNone);  // the prototype's subject
+  {
+    std::vector<uint32_t> subject_of(scene.objects.size(), BoxSet::kNone);
+    for (size_t k = 0; k < subjects.size(); ++k)
+      if (subjects[k].object != BoxSet::kNone) subject_of[subjects[k].object] = uint32_t(k);
+    for (size_t k = 0; k < subjects.size(); ++k)
+      if (subjects[k].object != BoxSet::kNone)
+        if (const Instance* copy = moved_copy_of(scene, subjects[k].object))
+          source[k] = subject_of[copy->prototype];
+  }
   progress.start("bake textured boxes", 2 * subjects.size());
   // First each box's error from small images (32 texels on its longest edge), which sets
   // its texel size; then its sides at that size.
   std::vector<float> estimates(subjects.size());
   for (size_t k = 0; k < subjects.size(); ++k) {
+    if (source[k] != BoxSet::kNone) {
+      progress.advance();
+      continue;
+    }
     draw_list_of(subjects[k], tree, objects, list);
     const float texel = longest(subjects[k].bounds) / 32.0f;
     for (int side = 0; side < 6; ++side)
@@ -270,7 +287,11 @@ Result<BoxSet> bake_box_set(const Scene& scene, const ClusterTree& tree, gpu::Re
                                                         texel, options, images[side]));
     progress.advance();
   }
-  const std::vector<float> texels = texel_sizes(subjects, estimates, options);
+  for (size_t k = 0; k < subjects.size(); ++k)
+    if (source[k] != BoxSet::kNone) estimates[k] = estimates[source[k]];
+  std::vector<float> texels = texel_sizes(subjects, estimates, options);
+  for (size_t k = 0; k < subjects.size(); ++k)
+    if (source[k] != BoxSet::kNone) texels[k] = texels[source[k]];
 
   // Every box's sides first (the texel budget bounds them), then packed the tallest first,
   // each box on the first page with room for all its sides: shelves of like heights, pages
@@ -281,11 +302,12 @@ Result<BoxSet> bake_box_set(const Scene& scene, const ClusterTree& tree, gpu::Re
     std::array<SideImage, 6> images;
     int tallest = 0;
   };
-  std::vector<Drawn> drawn;
+  std::vector<Drawn> made(subjects.size());
   for (size_t k = 0; k < subjects.size(); ++k) {
+    if (source[k] != BoxSet::kNone) continue;
     const Subject& s = subjects[k];
     draw_list_of(s, tree, objects, list);
-    Drawn d;
+    Drawn& d = made[k];
     d.box.bounds = s.bounds;
     for (int side = 0; side < 6; ++side) {
       d.box.error_m = std::max(d.box.error_m, render_side(renderer, list, s.bounds, side,
@@ -293,6 +315,17 @@ Result<BoxSet> bake_box_set(const Scene& scene, const ClusterTree& tree, gpu::Re
       if (!d.images[side].rgba.empty()) d.tallest = std::max(d.tallest, d.images[side].h);
     }
     progress.advance();
+  }
+  for (size_t k = 0; k < subjects.size(); ++k)
+    if (source[k] != BoxSet::kNone) {
+      made[k] = made[source[k]];
+      made[k].box.bounds = subjects[k].bounds;
+      progress.advance();
+    }
+  std::vector<Drawn> drawn;
+  for (size_t k = 0; k < subjects.size(); ++k) {
+    const Subject& s = subjects[k];
+    Drawn d = std::move(made[k]);
     if (d.tallest == 0) continue;
     const uint32_t id = uint32_t(set.boxes.size());
     set.boxes.push_back(d.box);

@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "farfield/core/text.hpp"
+#include "farfield/scene/instances.hpp"
 #include "farfield/scene/simplify.hpp"
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
@@ -34,6 +35,21 @@ std::vector<SimplifiedPart> lod_chain(const Scene& scene, uint32_t object, const
     lod.error_m = error;
     previous = triangles;
     chain.push_back(std::move(lod));
+  }
+  return chain;
+}
+
+// An instance's chain from its prototype's (Scene::instances): each level moved as the
+// instance moves the prototype, its error stretched as far as the instance stretches
+// distances. A simplification of the copy would differ from the moved one only by rounding.
+std::vector<SimplifiedPart> placed_chain(const std::vector<SimplifiedPart>& prototype,
+                                         const Instance& instance) {
+  const InstanceTransform move(instance);
+  const float stretch = float(largest_stretch(instance.linear));
+  std::vector<SimplifiedPart> chain = prototype;
+  for (SimplifiedPart& lod : chain) {
+    for (Vertex& v : lod.mesh.vertices) v = move(v);
+    lod.error_m *= stretch;
   }
   return chain;
 }
@@ -110,26 +126,40 @@ Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progres
   if (order_of_pages.size() != objects)
     return make_error(formatted("LOD pages: an order of %zu objects for a scene of %zu",
                                 order_of_pages.size(), objects));
-  auto work = BakeWork::open(keep, "lods",
-                             formatted("scene %016llx, %d levels, %u triangles, reduction %.17g",
-                                       (unsigned long long)scene_fingerprint(scene), o.max_levels,
-                                       o.min_triangles, o.min_reduction),
-                             shards);
+  auto work = BakeWork::open(
+      keep, "lods",
+      formatted("scene %016llx, %d levels, %u triangles, reduction %.17g, instances moved",
+                (unsigned long long)scene_fingerprint(scene), o.max_levels, o.min_triangles,
+                o.min_reduction),
+      shards);
   if (!work) return work.error();
+  // Only objects that are not instances are simplified (the work's items); an instance's chain
+  // is its prototype's, moved.
+  std::vector<uint32_t> own;  // per item, its object
+  own.reserve(objects - scene.instances.size());
+  for (uint32_t i = 0, next = 0; i < objects; ++i)
+    if (next < scene.instances.size() && scene.instances[next].object == i)
+      ++next;
+    else
+      own.push_back(i);
   // The objects with the most triangles first, so that the last to finish are small.
-  std::vector<uint32_t> order(objects);
+  std::vector<uint32_t> order(own.size());
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&](uint32_t l, uint32_t r) {
-    return scene.objects[l].index_count > scene.objects[r].index_count;
+    return scene.objects[own[l]].index_count > scene.objects[own[r]].index_count;
   });
-  auto chains = work->run("simplify objects", "objects", objects, order, 64, o.threads, progress,
-                          [&](uint32_t i) { return lod_chain(scene, i, o); });
-  if (!chains) return chains.error();
+  auto simplified = work->run("simplify objects", "objects", own.size(), order, 64, o.threads,
+                              progress, [&](uint32_t i) { return lod_chain(scene, own[i], o); });
+  if (!simplified) return simplified.error();
+  std::vector<PartList> chains(objects);
+  for (size_t i = 0; i < own.size(); ++i) chains[own[i]] = std::move((*simplified)[i]);
+  for (const Instance& instance : scene.instances)
+    chains[instance.object] = placed_chain(chains[instance.prototype], instance);
 
-  const PartSizes sizes = sizes_of(*chains);
+  const PartSizes sizes = sizes_of(chains);
   if (!sizes.fit_uint32())
     return make_error("the scene's LODs need more than 2^32 vertices or indices");
-  LodSet set = lay_out_pages(*chains, order_of_pages, o.page_triangles, !scene.uvs.empty(),
+  LodSet set = lay_out_pages(chains, order_of_pages, o.page_triangles, !scene.uvs.empty(),
                              sizes.vertices, sizes.indices);
   set.bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return set;
