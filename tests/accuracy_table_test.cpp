@@ -14,6 +14,7 @@
 #include "farfield/scene/city_generator.hpp"
 #include "farfield/scene/instances.hpp"
 #include "farfield/store/blob_array.hpp"
+#include "farfield/techniques/clusters/box_atlas.hpp"
 #include "farfield/store/store.hpp"
 #include "test_util.hpp"
 
@@ -216,6 +217,24 @@ TEST(AccuracyTableGL, AMovedCopyTakesItsPrototypesBoxAndErrors) {
   const TexturedBox& ours = shared.boxes.boxes[box_of(shared, moved)];
   const TexturedBox& theirs = shared.boxes.boxes[box_of(shared, prototype)];
   EXPECT_FLOAT_EQ(ours.error_m, theirs.error_m);
+  // ... held once in the atlas, and in its tiles when the boxes stream.
+  EXPECT_EQ(ours.page, theirs.page);
+  uint64_t copy_texels = 0;
+  for (int side = 0; side < 6; ++side) {
+    EXPECT_EQ(ours.sides[side].x, theirs.sides[side].x);
+    EXPECT_EQ(ours.sides[side].y, theirs.sides[side].y);
+    copy_texels += uint64_t(ours.sides[side].w) * ours.sides[side].h;
+  }
+  EXPECT_EQ(shared.boxes.texels() + copy_texels, rendered.boxes.texels());
+  const BoxTiling tiling = tile_boxes(shared.boxes, 128);
+  ASSERT_FALSE(tiling.whole_pages);
+  const TexturedBox& tiled = tiling.tiles.boxes[box_of(shared, moved)];
+  const TexturedBox& tiled_prototype = tiling.tiles.boxes[box_of(shared, prototype)];
+  EXPECT_EQ(tiled.page, tiled_prototype.page);
+  for (int side = 0; side < 6; ++side) {
+    EXPECT_EQ(tiled.sides[side].x, tiled_prototype.sides[side].x);
+    EXPECT_EQ(tiled.sides[side].y, tiled_prototype.sides[side].y);
+  }
   const uint32_t levels = shared.lods.first_lod[prototype + 1] - shared.lods.first_lod[prototype];
   ASSERT_GT(levels, 0u);
   for (size_t k = 0; k < k_count; ++k) {

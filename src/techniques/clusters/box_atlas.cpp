@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
 #include <condition_variable>
 #include <mutex>
 #include <optional>
@@ -53,8 +54,24 @@ BoxTiling tile_boxes(const BoxSet& set, int tile_px) {
       open.push_back({ShelfPacker(px, kBoxGutterPx), UINT32_MAX});
       if (px == set.page_px) break;
     }
+    // Boxes that share their sides' texels (copies of one model, box_set.hpp) share them in
+    // the tiles too: the first one's places.
+    std::map<std::array<uint16_t, 24>, uint32_t> first_with;
     for (uint32_t b : of_page[p]) {
       TexturedBox& box = t.tiles.boxes[b];
+      std::array<uint16_t, 24> key;
+      for (int side = 0; side < 6; ++side) {
+        const BoxSide& s = set.boxes[b].sides[side];
+        key[4 * side] = s.x, key[4 * side + 1] = s.y, key[4 * side + 2] = s.w,
+        key[4 * side + 3] = s.h;
+      }
+      if (const auto [at, fresh] = first_with.try_emplace(key, b); !fresh) {
+        const TexturedBox& first = t.tiles.boxes[at->second];
+        box.page = first.page;
+        std::copy(std::begin(first.sides), std::end(first.sides), std::begin(box.sides));
+        of_tile[box.page].push_back(b);
+        continue;
+      }
       const std::vector<int> sides = sides_tallest_first(box);
       std::vector<glm::ivec2> sizes;
       for (int side : sides) sizes.push_back({box.sides[side].w, box.sides[side].h});

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
+#include <set>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -100,9 +101,11 @@ float longest(const Bounds3& box) {
 // Per subject the texel size, metres: as fine as max_side_px allows where the texel budget
 // permits; where it does not, coarser in proportion to the box's error (a box is drawn where
 // its error projects below clusters.error_px, so the boxes of large error are seen from
-// farthest), with a sixty-fourth of its size standing in for an error near 0.
+// farthest), with a sixty-fourth of its size standing in for an error near 0. A copy's
+// (`source`: its prototype's subject) texels are its prototype's, counted once.
 std::vector<float> texel_sizes(const std::vector<Subject>& subjects,
-                               const std::vector<float>& errors, const BoxSetOptions& o) {
+                               const std::vector<float>& errors,
+                               const std::vector<uint32_t>& source, const BoxSetOptions& o) {
   auto sizes = [&](double share) {
     std::vector<float> texel(subjects.size());
     for (size_t k = 0; k < subjects.size(); ++k) {
@@ -116,7 +119,7 @@ std::vector<float> texel_sizes(const std::vector<Subject>& subjects,
     const std::vector<float> texel = sizes(share);
     double sum = 0;
     for (size_t k = 0; k < subjects.size(); ++k)
-      for (int side = 0; side < 6; ++side) {
+      for (int side = 0; side < 6 && source[k] == BoxSet::kNone; ++side) {
         const SideExtent e = side_extent(subjects[k].bounds, side);
         if (side_has_area(e, subjects[k].bounds))
           sum += double(side_px(2 * e.half_width, texel[k], o)) *
@@ -186,9 +189,12 @@ double BoxSet::mean_texel_m() const {
 }
 
 uint64_t BoxSet::texels() const {
+  // Boxes may share their sides' texels (copies of one model): each place counted once.
+  std::set<std::array<uint32_t, 3>> seen;
   uint64_t n = 0;
   for (const TexturedBox& b : boxes)
-    for (const BoxSide& s : b.sides) n += uint64_t(s.w) * s.h;
+    for (const BoxSide& s : b.sides)
+      if (s.w > 0 && seen.insert({b.page, s.x, s.y}).second) n += uint64_t(s.w) * s.h;
   return n;
 }
 
@@ -289,7 +295,7 @@ Result<BoxSet> bake_box_set(const Scene& scene, const ClusterTree& tree, gpu::Re
   }
   for (size_t k = 0; k < subjects.size(); ++k)
     if (source[k] != BoxSet::kNone) estimates[k] = estimates[source[k]];
-  std::vector<float> texels = texel_sizes(subjects, estimates, options);
+  std::vector<float> texels = texel_sizes(subjects, estimates, source, options);
   for (size_t k = 0; k < subjects.size(); ++k)
     if (source[k] != BoxSet::kNone) texels[k] = texels[source[k]];
 
@@ -316,13 +322,16 @@ Result<BoxSet> bake_box_set(const Scene& scene, const ClusterTree& tree, gpu::Re
     }
     progress.advance();
   }
+  // A copy's box: its own bounds, its prototype's error and, once packed, its sides' texels.
   for (size_t k = 0; k < subjects.size(); ++k)
     if (source[k] != BoxSet::kNone) {
-      made[k] = made[source[k]];
+      made[k].box = made[source[k]].box;
       made[k].box.bounds = subjects[k].bounds;
+      made[k].tallest = made[source[k]].tallest;
       progress.advance();
     }
   std::vector<Drawn> drawn;
+  std::vector<uint32_t> box_of_subject(subjects.size(), BoxSet::kNone);
   for (size_t k = 0; k < subjects.size(); ++k) {
     const Subject& s = subjects[k];
     Drawn d = std::move(made[k]);
@@ -330,11 +339,14 @@ Result<BoxSet> bake_box_set(const Scene& scene, const ClusterTree& tree, gpu::Re
     const uint32_t id = uint32_t(set.boxes.size());
     set.boxes.push_back(d.box);
     (s.object != BoxSet::kNone ? set.object_box[s.object] : set.node_box[s.node]) = id;
+    box_of_subject[k] = id;
     drawn.push_back(std::move(d));
   }
   progress.finish();
-  std::vector<uint32_t> by_height(drawn.size());
-  std::iota(by_height.begin(), by_height.end(), 0u);
+  std::vector<uint32_t> by_height;
+  for (size_t k = 0; k < subjects.size(); ++k)
+    if (box_of_subject[k] != BoxSet::kNone && source[k] == BoxSet::kNone)
+      by_height.push_back(box_of_subject[k]);
   std::stable_sort(by_height.begin(), by_height.end(),
                    [&](uint32_t l, uint32_t r) { return drawn[l].tallest > drawn[r].tallest; });
   std::vector<ShelfPacker> packers;
@@ -369,6 +381,14 @@ Result<BoxSet> bake_box_set(const Scene& scene, const ClusterTree& tree, gpu::Re
       image.rgba = {};
     }
   }
+  // Copies draw from their prototypes' texels: the atlas holds them once.
+  for (size_t k = 0; k < subjects.size(); ++k)
+    if (box_of_subject[k] != BoxSet::kNone && source[k] != BoxSet::kNone) {
+      TexturedBox& box = set.boxes[box_of_subject[k]];
+      const TexturedBox& prototype = set.boxes[box_of_subject[source[k]]];
+      box.page = prototype.page;
+      std::copy(std::begin(prototype.sides), std::end(prototype.sides), std::begin(box.sides));
+    }
   renderer.set_clear_alpha(1.0f);
   renderer.set_offscreen(0, 0);
   set.page_count = uint32_t(set.pages.size());

@@ -76,11 +76,13 @@ struct BoxSet {
   // RGBA8, page_px x page_px, rows from the top; empty where loaded without them (read each
   // with read_box_page).
   std::vector<std::vector<uint8_t>> pages;
-  std::vector<TexturedBox> boxes;           // depth first over the hierarchy
+  // Depth first over the hierarchy. A copy only moved of another object (Scene::instances)
+  // shares its prototype's sides: the same page and places, its own bounds.
+  std::vector<TexturedBox> boxes;
   std::vector<uint32_t> object_box;         // per scene object: into boxes, or kNone
   std::vector<uint32_t> node_box;           // per ClusterTree node (clustered ones): or kNone
   double bake_s = 0;
-  uint64_t texels() const;
+  uint64_t texels() const;       // in the pages: shared sides once
   double mean_texel_m() const;  // over the boxes' drawn sides
 };
 
