@@ -19,9 +19,9 @@
 #include <glm/trigonometric.hpp>
 
 #include "farfield/core/assert.hpp"
+#include "farfield/gpu/instance_layout.hpp"
 #include "farfield/gpu/lighting.hpp"
 #include "farfield/gpu/scene_chunks.hpp"
-#include "farfield/scene/instances.hpp"
 #include "gpu_resources.hpp"
 #include "scene_textures.hpp"
 #include "shaders.hpp"
@@ -39,32 +39,6 @@ struct DrawCommand {
   GLuint base_instance;  // the material: selects the instanced material colour
 };
 static_assert(sizeof(DrawCommand) == 20);
-
-// A draw command's placement (PLACED programs, binding 5, one per draw record): the rows of
-// its 3 x 4 affine matrix and of its normals' matrix (w unused).
-struct Placement {
-  glm::vec4 rows[3];
-  glm::vec4 normal_rows[3];
-};
-static_assert(sizeof(Placement) == 96);
-
-Placement identity_placement() {
-  Placement p{};
-  for (int i = 0; i < 3; ++i) p.rows[i][i] = p.normal_rows[i][i] = 1.0f;
-  return p;
-}
-
-// An instance's: positions by linear then offset, normals by linear's inverse transpose.
-Placement placement_of(const Instance& instance) {
-  const glm::mat3 normal = glm::transpose(glm::inverse(instance.linear));
-  Placement p{};
-  for (int i = 0; i < 3; ++i) {  // glm is column-major: row i is [c][i] over the columns c
-    p.rows[i] = {instance.linear[0][i], instance.linear[1][i], instance.linear[2][i],
-                 instance.offset[i]};
-    p.normal_rows[i] = {normal[0][i], normal[1][i], normal[2][i], 0.0f};
-  }
-  return p;
-}
 
 struct QuadVertex {
   glm::vec3 position;
@@ -106,19 +80,11 @@ struct Renderer::State {
     GLuint indexed_vao = 0;  // the same, its indices from indexed_buffer (DrawList::scene_indices)
   };
   std::vector<Chunk> chunks;
-  // Drawn instanced (Scene::instances): the chunks hold the scene's stored form
-  // (instances.hpp), where an instance has no geometry of its own, and an instance's draws
-  // read its prototype's indices with its placement (PLACED programs). Index and vertex
-  // numbers of the scene as held map to the uploaded ones by segments, sorted: runs of objects
-  // drawn as they are (consecutive in both numberings) and single instances. Empty: the chunks
+  // Drawn instanced (Scene::instances, instance_layout.hpp): the chunks hold the scene's
+  // stored form; `layout` maps held index and vertex numbers onto it. Not placed: the chunks
   // hold the scene as it is (no instances, or InstanceDrawing::expanded).
-  static constexpr uint32_t kOwn = UINT32_MAX;
-  struct Segment {
-    uint32_t held_first, count, uploaded_first;
-    uint32_t instance;  // kOwn: objects drawn as they are; else into Scene::instances
-  };
-  std::vector<Segment> index_segments, vertex_segments;
-  std::vector<uint32_t> instance_materials;  // per instance, its object's material
+  static constexpr uint32_t kOwn = InstanceLayout::kOwn;
+  InstanceLayout layout;
   // Draw records (a command's baseInstance: material colour, texturing, placement): the
   // materials, then the white one, then per instance two, in its material and in white.
   std::vector<Placement> placements;  // per record; empty where nothing is placed
@@ -126,18 +92,9 @@ struct Renderer::State {
   GLuint command_placement_buffer = 0;  // the visibility pass's, per command
   size_t command_placement_capacity = 0;
   uint64_t geometry_bytes = 0;  // of the chunks' buffers
-  bool placed() const { return !index_segments.empty(); }
+  bool placed() const { return layout.placed(); }
   uint32_t instance_record(uint32_t instance, bool white) const {
     return white_material + 1 + 2 * instance + (white ? 1 : 0);
-  }
-  static const Segment& segment_of(const std::vector<Segment>& segments, uint32_t held) {
-    const auto after =
-        std::upper_bound(segments.begin(), segments.end(), held,
-                         [](uint32_t v, const Segment& g) { return v < g.held_first; });
-    FF_ASSERT(after != segments.begin(), "number %u before every segment", held);
-    const Segment& g = *(after - 1);
-    FF_ASSERT(held < g.held_first + g.count, "number %u past every segment", held);
-    return g;
   }
   // A piece of a scene range that one command draws: `count` indices from the held scene's
   // `held_at`, which are the uploaded `uploaded_at` of chunk `chunk`, with draw record `record`.
@@ -152,24 +109,22 @@ struct Renderer::State {
   void for_each_piece(uint32_t first, uint32_t count, uint32_t material, bool white,
                       F&& f) const {
     for (uint32_t at = first, end = first + count; at < end;) {
-      uint32_t stop = end, uploaded = at, record = white ? white_material : material;
-      if (placed()) {
-        const Segment& g = segment_of(index_segments, at);
-        stop = std::min(end, g.held_first + g.count);
-        uploaded = g.uploaded_first + (at - g.held_first);
-        if (g.instance != kOwn) {
-          FF_ASSERT(white || material == instance_materials[g.instance],
-                    "range of material %u over instance %u, whose material is %u", material,
-                    g.instance, instance_materials[g.instance]);
-          record = instance_record(g.instance, white);
-        }
+      const InstanceLayout::Run run = layout.index_run(at, end);
+      uint32_t record = white ? white_material : material;
+      if (run.instance != kOwn) {
+        FF_ASSERT(white || material == layout.instance_material(run.instance),
+                  "range of material %u over instance %u, whose material is %u", material,
+                  run.instance, layout.instance_material(run.instance));
+        record = instance_record(run.instance, white);
       }
-      const size_t c = chunk_of(chunk_ranges, uploaded);
+      const size_t c = chunk_of(chunk_ranges, run.uploaded_at);
       const SceneChunk& chunk = chunk_ranges[c];
-      FF_ASSERT(uploaded >= chunk.first_index && uploaded < chunk.first_index + chunk.index_count,
+      FF_ASSERT(run.uploaded_at >= chunk.first_index &&
+                    run.uploaded_at < chunk.first_index + chunk.index_count,
                 "range [%u, %u) outside every chunk", at, end);
-      const uint32_t n = std::min(stop - at, chunk.first_index + chunk.index_count - uploaded);
-      f(Piece{at, uploaded, n, c, record});
+      const uint32_t n =
+          std::min(run.count, chunk.first_index + chunk.index_count - run.uploaded_at);
+      f(Piece{at, run.uploaded_at, n, c, record});
       at += n;
     }
   }
@@ -362,9 +317,9 @@ struct Renderer::State {
         if (batches.empty() || batches.back().vao != chunks[c].indexed_vao ||
             batches.back().drawing != drawing)
           batches.push_back({chunks[c].indexed_vao, commands.size(), 0, drawing});
-        FF_ASSERT(own == kOwn || r.material == instance_materials[own],
+        FF_ASSERT(own == kOwn || r.material == layout.instance_material(own),
                   "indexed run of material %u over instance %u, whose material is %u",
-                  r.material, own, own == kOwn ? 0 : instance_materials[own]);
+                  r.material, own, own == kOwn ? 0 : layout.instance_material(own));
         commands.push_back({stop - at, 1, at, -GLint(chunk_ranges[c].first_vertex),
                             own == kOwn ? r.material : instance_record(own, false)});
         batches.back().count++;
@@ -376,20 +331,7 @@ struct Renderer::State {
   // Placed scenes: the list's scene_indices in uploaded vertex numbers, and their triangles'
   // instances (a triangle's corners lie in one object).
   void place_scene_indices(const DrawList& list) {
-    if (!placed()) return;
-    const std::vector<uint32_t>& held = list.scene_indices;
-    FF_ASSERT(held.size() % 3 == 0, "%zu scene indices", held.size());
-    placed_indices.resize(held.size());
-    triangle_instances.resize(held.size() / 3);
-    for (size_t t = 0; t < held.size(); t += 3) {
-      const Segment& g = segment_of(vertex_segments, held[t]);
-      for (size_t k = t; k < t + 3; ++k) {
-        FF_ASSERT(held[k] >= g.held_first && held[k] < g.held_first + g.count,
-                  "triangle %zu of the list's scene indices spans objects", t / 3);
-        placed_indices[k] = g.uploaded_first + (held[k] - g.held_first);
-      }
-      triangle_instances[t / 3] = g.instance;
-    }
+    if (placed()) layout.place_vertices(list.scene_indices, placed_indices, triangle_instances);
   }
 
   void upload_scene_indices(const DrawList& list) {
@@ -795,25 +737,6 @@ struct Renderer::State {
 Renderer::Renderer() : state_(std::make_unique<State>()) {}
 Renderer::~Renderer() = default;
 
-namespace {
-
-// What the chunks of a scene drawn instanced hold: its stored form (instances.hpp), the
-// instances' objects left without indices so that no chunk plans them.
-Scene uploaded_form(const Scene& scene) {
-  StoredForm stored = stored_form(scene);
-  Scene uploaded;
-  uploaded.objects = std::move(stored.objects);
-  for (const Instance& i : scene.instances) uploaded.objects[i.object].index_count = 0;
-  uploaded.vertices = std::move(stored.vertices);
-  uploaded.indices = std::move(stored.indices);
-  uploaded.uvs = std::move(stored.uvs);
-  uploaded.materials = scene.materials;
-  uploaded.names = scene.names;
-  return uploaded;
-}
-
-}  // namespace
-
 Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t chunk_bytes,
                                                    InstanceDrawing instance_drawing) {
   FF_ASSERT(epoxy_gl_version() >= 45, "needs a current OpenGL 4.5 context (version %d)",
@@ -826,47 +749,18 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
   s.white_material = uint32_t(materials.size());
   materials.push_back(Material{glm::vec4(1.0f)});
   s.index_count = uint32_t(scene.indices.size());
-  // Instances drawn instanced: the chunks hold the stored form, the segments map onto it.
+  // Instances drawn instanced: the chunks hold the stored form, the layout maps onto it.
   const bool placed = instance_drawing == InstanceDrawing::placed && !scene.instances.empty() &&
                       !scene.indices.empty();
   Scene stored;
   if (placed) {
     stored = uploaded_form(scene);
-    size_t next = 0;  // into scene.instances
-    for (uint32_t i = 0; i < scene.objects.size(); ++i) {
-      const Object& held = scene.objects[i];
-      const Object& up = stored.objects[i];
-      const bool instance = next < scene.instances.size() && scene.instances[next].object == i;
-      const uint32_t k = instance ? uint32_t(next++) : State::kOwn;
-      if (instance) s.instance_materials.push_back(held.material);
-      const auto add = [&](std::vector<State::Segment>& segments, uint32_t held_first,
-                           uint32_t count, uint32_t uploaded_first) {
-        if (count == 0) return;
-        State::Segment* last = segments.empty() ? nullptr : &segments.back();
-        if (k == State::kOwn && last && last->instance == State::kOwn &&
-            last->held_first + last->count == held_first &&
-            last->uploaded_first + last->count == uploaded_first) {
-          last->count += count;
-          return;
-        }
-        segments.push_back({held_first, count, uploaded_first, k});
-      };
-      add(s.index_segments, held.first_index, held.index_count, up.first_index);
-      add(s.vertex_segments, held.first_vertex, held.vertex_count, up.first_vertex);
-    }
-    std::sort(s.index_segments.begin(), s.index_segments.end(),
-              [](const State::Segment& a, const State::Segment& b) {
-                return a.held_first < b.held_first;
-              });
-    std::sort(s.vertex_segments.begin(), s.vertex_segments.end(),
-              [](const State::Segment& a, const State::Segment& b) {
-                return a.held_first < b.held_first;
-              });
+    s.layout = InstanceLayout(scene, stored);
     // Draw records past the materials and the white one: per instance its material, white.
     s.placements.assign(materials.size(), identity_placement());
     for (size_t k = 0; k < scene.instances.size(); ++k) {
       const Placement p = placement_of(scene.instances[k]);
-      materials.push_back(scene.materials[s.instance_materials[k]]);
+      materials.push_back(scene.materials[s.layout.instance_material(uint32_t(k))]);
       materials.push_back(Material{glm::vec4(1.0f)});
       s.placements.push_back(p);
       s.placements.push_back(p);
@@ -901,8 +795,8 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
     s.textures = std::make_unique<SceneTextures>(std::move(*textures));
     std::vector<MaterialTexturing> texturing = s.textures->materials();
     texturing.push_back({});  // the white material: untextured
-    for (uint32_t material : s.instance_materials) {  // the instances' records
-      texturing.push_back(s.textures->materials()[material]);
+    for (uint32_t k = 0; k < s.layout.instance_count(); ++k) {  // the instances' records
+      texturing.push_back(s.textures->materials()[s.layout.instance_material(k)]);
       texturing.push_back({});
     }
     if (auto made = make_buffer(s.texturing_buffer, "material texturing buffer",
