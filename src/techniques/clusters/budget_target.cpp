@@ -5,8 +5,9 @@
 
 namespace farfield {
 
-void BudgetTarget::observe(double predicted_ms, double measured_ms) {
+void BudgetTarget::observe(double predicted_ms, double measured_ms, double budget_ms) {
   if (!(predicted_ms > 0.0) || !(measured_ms > 0.0) || !std::isfinite(measured_ms)) return;
+  if (std::max(predicted_ms, measured_ms) < 0.5 * budget_ms) return;
   ratios_[next_] = measured_ms / predicted_ms;
   next_ = (next_ + 1) % kFrames;
   count_ = std::min(count_ + 1, kFrames);

@@ -641,7 +641,8 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     cost_.observe({double(input.budget.last_triangles), double(input.budget.last_draw_calls),
                    last_pixels_},
                   input.budget.last_frame_ms - input.budget.last_upload_ms);
-    budget_target_.observe(last_predicted_ms_, input.budget.last_frame_ms);
+    budget_target_.observe(last_predicted_ms_, input.budget.last_frame_ms,
+                           input.budget.target_ms);
   }
   upload_frame_ = false;
   last_predicted_ms_ = -1.0;
@@ -708,6 +709,10 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
     ahead_eye_ = ahead.pose.position;
   }
 
+  // What this frame appends, counted as the renderer counts it (what is drawn, stand-ins
+  // included, not what was chosen): the cost model learns from the renderer's counts.
+  const size_t opaque_before = out.opaque.size(), transparent_before = out.transparent.size(),
+               faded_before = out.faded.size(), meshes_before = out.meshes.size();
   place(out);
   if (fades_) fades_->update(selection_->switched(), choices_);
   full_->clear();
@@ -781,12 +786,10 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   full_->emit(out);  // the whole objects, in scene order
   // What the last frames drew where a node switched, fading out (in memory only: its meshes
   // are all resident).
-  uint64_t faded_out_triangles = 0;
   if (fades_) {
     complement = true;
     for (const SwitchFades::Out& o : fades_->fading_out()) {
       coverage = o.coverage;
-      const size_t before = out.faded.size();
       const Choice& c = o.choice;
       if (c.kind == Choice::Kind::cluster) {
         const ClusterNode& node = tree_.nodes[c.index];
@@ -800,8 +803,6 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
         const Object& object = scene_->objects[c.index];
         push(object.first_index, object.index_count, object.material, {});
       }
-      for (size_t k = before; k < out.faded.size(); ++k)
-        faded_out_triangles += out.faded[k].range.index_count / 3;
     }
     complement = false;
     coverage = 1.0f;
@@ -821,8 +822,17 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   last_upload_bytes_ = out.upload_bytes();
   last_pixels_ = covered_pixels(view);
   if (cost_.ready()) {
+    uint64_t triangles = 0;
+    for (size_t k = opaque_before; k < out.opaque.size(); ++k)
+      triangles += out.opaque[k].index_count / 3;
+    for (size_t k = transparent_before; k < out.transparent.size(); ++k)
+      triangles += out.transparent[k].index_count / 3;
+    for (size_t k = faded_before; k < out.faded.size(); ++k)
+      triangles += out.faded[k].range.index_count / 3;
+    for (size_t k = meshes_before; k < out.meshes.size(); ++k)
+      triangles += out.meshes[k].index_count / 3;
     out.predicted_ms =
-        cost_.predict_ms({double(stats.triangles + faded_out_triangles),
+        cost_.predict_ms({double(triangles),
                           double(out.opaque.size() + out.transparent.size() + out.faded.size() +
                                  box_draws),
                           last_pixels_}) +
