@@ -230,13 +230,27 @@ struct DrawList {
     occlusion_ms = -1.0;
     tints.clear();
   }
+  // Where the ranges and meshes end now, so that what is appended after (a technique's own
+  // part of a list others fill too) can be counted apart.
+  struct Ends {
+    size_t opaque = 0, transparent = 0, faded = 0, meshes = 0;
+  };
+  Ends ends() const { return {opaque.size(), transparent.size(), faded.size(), meshes.size()}; }
+  // The triangles of the opaque, transparent and faded ranges and the meshes after `from`.
+  uint64_t triangle_count_since(const Ends& from) const {
+    uint64_t n = 0;
+    for (size_t k = from.opaque; k < opaque.size(); ++k) n += opaque[k].index_count / 3;
+    for (size_t k = from.transparent; k < transparent.size(); ++k)
+      n += transparent[k].index_count / 3;
+    for (size_t k = from.faded; k < faded.size(); ++k) n += faded[k].range.index_count / 3;
+    for (size_t k = from.meshes; k < meshes.size(); ++k) n += meshes[k].index_count / 3;
+    return n;
+  }
   // Scene, mesh and backdrop triangles together (two per quad).
   uint64_t triangle_count() const {
-    uint64_t n = 2 * backdrop.size();
-    for (const auto& m : meshes) n += m.index_count / 3;
-    for (const auto* ranges : {&opaque, &transparent, &indexed_opaque, &indexed_transparent})
+    uint64_t n = 2 * backdrop.size() + triangle_count_since({});
+    for (const auto* ranges : {&indexed_opaque, &indexed_transparent})
       for (const auto& r : *ranges) n += r.index_count / 3;
-    for (const auto& f : faded) n += f.range.index_count / 3;
     return n;
   }
   // Of those, the technique meshes' (stand-ins: two per colour-cube face, LODs, ...).

@@ -711,8 +711,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
 
   // What this frame appends, counted as the renderer counts it (what is drawn, stand-ins
   // included, not what was chosen): the cost model learns from the renderer's counts.
-  const size_t opaque_before = out.opaque.size(), transparent_before = out.transparent.size(),
-               faded_before = out.faded.size(), meshes_before = out.meshes.size();
+  const DrawList::Ends before = out.ends();
   place(out);
   if (fades_) fades_->update(selection_->switched(), choices_);
   full_->clear();
@@ -822,17 +821,8 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   last_upload_bytes_ = out.upload_bytes();
   last_pixels_ = covered_pixels(view);
   if (cost_.ready()) {
-    uint64_t triangles = 0;
-    for (size_t k = opaque_before; k < out.opaque.size(); ++k)
-      triangles += out.opaque[k].index_count / 3;
-    for (size_t k = transparent_before; k < out.transparent.size(); ++k)
-      triangles += out.transparent[k].index_count / 3;
-    for (size_t k = faded_before; k < out.faded.size(); ++k)
-      triangles += out.faded[k].range.index_count / 3;
-    for (size_t k = meshes_before; k < out.meshes.size(); ++k)
-      triangles += out.meshes[k].index_count / 3;
     out.predicted_ms =
-        cost_.predict_ms({double(triangles),
+        cost_.predict_ms({double(out.triangle_count_since(before)),
                           double(out.opaque.size() + out.transparent.size() + out.faded.size() +
                                  box_draws),
                           last_pixels_}) +
