@@ -2,6 +2,7 @@
 // kept in a pack, chosen by projected error.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <random>
@@ -117,10 +118,14 @@ TEST(LodSet, PagedInAnotherOrderKeepsEveryLevelsTriangles) {
 }
 
 // Copies of a tree's largest part (Scene::instances), one moved and one turned and stretched:
-// neither is simplified again, each level is its prototype's moved, and its stored error,
-// stretched as the copy is, still bounds the distance between the copy and its level.
-TEST(LodSet, AnInstancesChainIsItsPrototypesMovedAndStillBoundsItsDistance) {
+// neither is simplified again nor stored, each level is its prototype's range drawn with the
+// copy's placement, and its stored error, stretched as the copy is, still bounds the distance
+// between the copy and its level moved.
+TEST(LodSet, AnInstancesChainIsItsPrototypesPlacedAndStillBoundsItsDistance) {
   Scene scene = small_tree();
+  Progress quiet(true);
+  auto alone = build_lod_set(scene, {}, quiet);
+  ASSERT_TRUE(alone) << alone.error().message;
   uint32_t prototype = 0;
   for (uint32_t o = 1; o < scene.objects.size(); ++o)
     if (scene.objects[o].index_count > scene.objects[prototype].index_count) prototype = o;
@@ -132,13 +137,16 @@ TEST(LodSet, AnInstancesChainIsItsPrototypesMovedAndStillBoundsItsDistance) {
       b.add_instance("moved", ObjectKind::mesh, prototype, glm::mat3(1.0f), {30, 0, 4});
   const uint32_t stretched =
       b.add_instance("stretched", ObjectKind::mesh, prototype, turned, {-20, 3, 9});
-  Progress quiet(true);
   auto set = build_lod_set(scene, {}, quiet);
   ASSERT_TRUE(set) << set.error().message;
+  EXPECT_EQ(set->triangle_count(), alone->triangle_count());  // the copies store nothing
+  EXPECT_EQ(set->vertices.size(), alone->vertices.size());
+  EXPECT_EQ(set->instance_of(prototype), kNoInstance);
   const uint32_t levels = set->first_lod[prototype + 1] - set->first_lod[prototype];
   ASSERT_GT(levels, 1u);
   for (uint32_t copy : {moved, stretched}) {
     const Instance& instance = *instance_of(scene, copy);
+    EXPECT_EQ(set->instance_of(copy), uint32_t(&instance - scene.instances.data()));
     const InstanceTransform move(instance);
     const float stretch = float(largest_stretch(instance.linear));
     ASSERT_EQ(set->first_lod[copy + 1] - set->first_lod[copy], levels);
@@ -149,13 +157,14 @@ TEST(LodSet, AnInstancesChainIsItsPrototypesMovedAndStillBoundsItsDistance) {
       const Lod& ours = set->lods[set->first_lod[copy] + l];
       SCOPED_TRACE(testing::Message() << "copy " << copy << ", level " << l);
       EXPECT_EQ(ours.object, copy);
+      EXPECT_EQ(ours.first_index, theirs.first_index);
       ASSERT_EQ(ours.index_count, theirs.index_count);
+      EXPECT_EQ(set->lod_page[set->first_lod[copy] + l],
+                set->lod_page[set->first_lod[prototype] + l]);
       EXPECT_FLOAT_EQ(ours.error_m, theirs.error_m * stretch);
       MeshPart level;
       for (uint32_t i = 0; i < ours.index_count; ++i) {
-        const Vertex& v = set->vertices[set->indices[ours.first_index + i]];
-        EXPECT_EQ(v.position, move(set->vertices[set->indices[theirs.first_index + i]]).position);
-        level.vertices.push_back(v);
+        level.vertices.push_back(move(set->vertices[set->indices[ours.first_index + i]]));
         level.indices.push_back(i);
       }
       const float there = farthest_distance(test::random_surface_points(full, 4000, 1), level);
@@ -397,6 +406,75 @@ TEST(ClustersGL, FarLevelsLookLikeTheObjects) {
   (*renderer)->draw(view, list);
   const ImageComparison c = compare_images(reference, (*renderer)->capture());
   EXPECT_GT(c.psnr_db, 30.0) << c.differing_pixels << " pixels differ";
+}
+
+// A field of copies of a tree (Scene::instances) and one part copied turned and stretched:
+// a copy's levels are its prototype's, drawn with the copy's placement, so that each range
+// naming an instance, drawn alone, lands inside the copy's bounds on screen.
+TEST(ClustersGL, ACopysLevelsAreDrawnWhereTheCopyStands) {
+  auto context = gpu::create_headless_context();
+  if (!context) GTEST_SKIP() << context.error().message;
+  Progress quiet(true);
+  auto field = generate_field(small_tree(), {.count = 4, .spacing = 14.0}, quiet);
+  ASSERT_TRUE(field) << field.error().message;
+  Scene scene = std::move(*field);
+  ASSERT_FALSE(scene.instances.empty());
+  SceneBuilder b(scene);
+  const glm::mat3 turned =
+      glm::mat3(glm::rotate(glm::mat4(1.0f), 1.1f, glm::vec3(0, 1, 0))) * 1.3f;
+  b.add_instance("turned", ObjectKind::tree, scene.instances[0].prototype, turned, {0, 0, 20});
+  auto renderer = gpu::Renderer::create(scene);
+  ASSERT_TRUE(renderer);
+  auto clusters = make_technique("clusters", test::settings_of({"clusters.error_px=6"}));
+  ASSERT_TRUE(clusters);
+  ASSERT_TRUE(test::load_technique(**clusters, scene, renderer->get()));
+  View view;
+  view.width = 256;
+  view.height = 192;
+  view.pose.position = scene.bounds.center() + glm::vec3(-60.0f, 25.0f, 0.0f);
+  view.pose.pitch_deg = -20.0f;
+  (*renderer)->set_offscreen(view.width, view.height);
+  DrawList list, alone;
+  (*renderer)->draw(view, alone);
+  const Image sky = (*renderer)->capture();
+  test::select_view(**clusters, view, list);
+  std::vector<uint32_t> drawn;
+  for (const DrawRange& r : list.opaque) {
+    if (r.instance == kNoInstance) continue;
+    const Object& copy = scene.objects[scene.instances[r.instance].object];
+    drawn.push_back(r.instance);
+    alone.clear();
+    alone.opaque.push_back(r);
+    (*renderer)->draw(view, alone);
+    const Image image = (*renderer)->capture();
+    // The copy's bounds on screen, a pixel wider each way.
+    glm::vec2 low(1e9f), high(-1e9f);
+    for (int c = 0; c < 8; ++c) {
+      const glm::vec3 corner((c & 1 ? copy.bounds.max : copy.bounds.min).x,
+                             (c & 2 ? copy.bounds.max : copy.bounds.min).y,
+                             (c & 4 ? copy.bounds.max : copy.bounds.min).z);
+      const glm::vec4 clip = view.view_projection() * glm::vec4(corner, 1.0f);
+      ASSERT_GT(clip.w, 0.0f);
+      const glm::vec2 px((clip.x / clip.w * 0.5f + 0.5f) * float(view.width),
+                         (0.5f - clip.y / clip.w * 0.5f) * float(view.height));
+      low = glm::min(low, px - 1.0f);
+      high = glm::max(high, px + 1.0f);
+    }
+    int inside = 0, outside = 0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) {
+        if (std::equal(image.pixel(x, y), image.pixel(x, y) + 3, sky.pixel(x, y))) continue;
+        const bool in = float(x) + 0.5f >= low.x && float(x) + 0.5f <= high.x &&
+                        float(y) + 0.5f >= low.y && float(y) + 0.5f <= high.y;
+        (in ? inside : outside)++;
+      }
+    EXPECT_EQ(outside, 0) << "instance " << r.instance;
+    EXPECT_GT(inside, 0) << "instance " << r.instance;
+  }
+  // At 6 pixels (this view) the copies are drawn as levels, the turned one among them.
+  EXPECT_GT(drawn.size(), scene.instances.size() / 2);
+  EXPECT_NE(std::find(drawn.begin(), drawn.end(), uint32_t(scene.instances.size() - 1)),
+            drawn.end());
 }
 
 // Coloured by representation (paper 001, Fig. D): the technique names a colour for each of

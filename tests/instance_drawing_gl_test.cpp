@@ -251,6 +251,40 @@ TEST_F(InstanceDrawingGL, ChunkedScenesMeshesAndTexturesToo) {
   EXPECT_GT(light, 50u);
 }
 
+// A scene mesh holding a prototype's geometry, its range naming an instance (DrawRange::
+// instance, as a clusters level stored once): drawn as the copy's own range is, however the
+// scene was uploaded.
+TEST_F(InstanceDrawingGL, AMeshRangeNamingAnInstanceDrawsTheCopy) {
+  const Scene scene = copied_row(true);
+  make(scene);
+  const uint32_t k = uint32_t(scene.instances.size() - 1);  // the turned and shrunk copy
+  const Object& copy = scene.objects[scene.instances[k].object];
+  const Object& prototype = scene.objects[scene.instances[k].prototype];
+  std::vector<Vertex> vertices(scene.vertices.begin() + prototype.first_vertex,
+                               scene.vertices.begin() + prototype.first_vertex +
+                                   prototype.vertex_count);
+  std::vector<uint32_t> indices;
+  for (uint32_t i = prototype.first_index; i < prototype.first_index + prototype.index_count; ++i)
+    indices.push_back(scene.indices[i] - prototype.first_vertex);
+  DrawList own;
+  own.opaque.push_back({copy.first_index, copy.index_count, copy.material});
+  for (gpu::Renderer* r : {placed_.get(), expanded_.get()}) {
+    auto mesh = r->create_scene_mesh(vertices, {}, indices);
+    ASSERT_TRUE(mesh) << mesh.error().message;
+    DrawList placed, unplaced, faded;
+    placed.opaque.push_back({0, uint32_t(indices.size()), copy.material, *mesh, k});
+    unplaced.opaque.push_back({0, uint32_t(indices.size()), copy.material, *mesh});
+    faded.faded.push_back({placed.opaque[0], 1.0f});
+    const Image expected = render(*r, view_, own);
+    const Image drawn = render(*r, view_, placed);
+    EXPECT_GT(not_sky(drawn), 20u);
+    EXPECT_LE(differing(drawn, expected), 4u);
+    EXPECT_LE(differing(render(*r, view_, faded), expected), 4u);
+    // Not placed, the prototype's geometry is drawn where the prototype is.
+    EXPECT_GT(differing(render(*r, view_, unplaced), expected), 20u);
+  }
+}
+
 TEST(InstanceDrawingCli, BenchReportsTheGeometryItUploads) {
   if (auto context = gpu::create_headless_context(); !context)
     GTEST_SKIP() << context.error().message;

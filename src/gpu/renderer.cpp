@@ -87,7 +87,8 @@ struct Renderer::State {
   InstanceLayout layout;
   // Draw records (a command's baseInstance: material colour, texturing, placement): the
   // materials, then the white one, then per instance two, in its material and in white.
-  std::vector<Placement> placements;  // per record; empty where nothing is placed
+  std::vector<Placement> placements;  // per record; empty in a scene without instances
+  std::vector<uint32_t> instance_materials;  // per instance
   GLuint placement_buffer = 0;
   GLuint command_placement_buffer = 0;  // the visibility pass's, per command
   size_t command_placement_capacity = 0;
@@ -263,6 +264,8 @@ struct Renderer::State {
         add_scene_mesh_range(r, batches);
         continue;
       }
+      FF_ASSERT(r.instance == kNoInstance, "a range of the scene's own buffers names instance %u",
+                r.instance);
       FF_ASSERT(r.first_index % 3 == 0 && r.index_count % 3 == 0 &&
                     uint64_t(r.first_index) + r.index_count <= index_count &&
                     r.material < white_material,
@@ -361,10 +364,15 @@ struct Renderer::State {
               "range [%u, +%u) material %u outside mesh %u's %u indices and %u materials",
               r.first_index, r.index_count, r.material, r.mesh.id, mesh.index_count,
               white_material);
+    FF_ASSERT(r.instance == kNoInstance || (r.instance < instance_materials.size() &&
+                                            instance_materials[r.instance] == r.material),
+              "range of mesh %u placed by instance %u of %zu, whose material is not %u",
+              r.mesh.id, r.instance, instance_materials.size(), r.material);
     const Drawing drawing = drawings[r.material];
     if (batches.empty() || batches.back().vao != mesh.vao || batches.back().drawing != drawing)
       batches.push_back({mesh.vao, commands.size(), 0, drawing, r.mesh.id});
-    commands.push_back({r.index_count, 1, r.first_index, 0, r.material});
+    commands.push_back({r.index_count, 1, r.first_index, 0,
+                        r.instance == kNoInstance ? r.material : instance_record(r.instance, false)});
     batches.back().count++;
   }
 
@@ -756,11 +764,15 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
   if (placed) {
     stored = uploaded_form(scene);
     s.layout = InstanceLayout(scene, stored);
-    // Draw records past the materials and the white one: per instance its material, white.
+  }
+  // Draw records past the materials and the white one: per instance its material, white. Made
+  // however the scene is uploaded: a scene mesh's range may name an instance (DrawRange).
+  if (!scene.instances.empty()) {
     s.placements.assign(materials.size(), identity_placement());
-    for (size_t k = 0; k < scene.instances.size(); ++k) {
-      const Placement p = placement_of(scene.instances[k]);
-      materials.push_back(scene.materials[s.layout.instance_material(uint32_t(k))]);
+    for (const Instance& instance : scene.instances) {
+      const Placement p = placement_of(instance);
+      s.instance_materials.push_back(scene.objects[instance.object].material);
+      materials.push_back(scene.materials[s.instance_materials.back()]);
       materials.push_back(Material{glm::vec4(1.0f)});
       s.placements.push_back(p);
       s.placements.push_back(p);
@@ -795,8 +807,8 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
     s.textures = std::make_unique<SceneTextures>(std::move(*textures));
     std::vector<MaterialTexturing> texturing = s.textures->materials();
     texturing.push_back({});  // the white material: untextured
-    for (uint32_t k = 0; k < s.layout.instance_count(); ++k) {  // the instances' records
-      texturing.push_back(s.textures->materials()[s.layout.instance_material(k)]);
+    for (uint32_t material : s.instance_materials) {  // the instances' records
+      texturing.push_back(s.textures->materials()[material]);
       texturing.push_back({});
     }
     if (auto made = make_buffer(s.texturing_buffer, "material texturing buffer",
@@ -842,11 +854,12 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
   }
   glCreateVertexArrays(1, &s.vao);
 
-  s.program = build_scene_program(false, placed);
-  s.faded_program = build_scene_program(true, placed);
+  const bool placements = s.placement_buffer != 0;
+  s.program = build_scene_program(false, placements);
+  s.faded_program = build_scene_program(true, placements);
   if (textured) {
-    s.textured_scene_program = build_textured_scene_program(false, placed);
-    s.faded_textured_program = build_textured_scene_program(true, placed);
+    s.textured_scene_program = build_textured_scene_program(false, placements);
+    s.faded_textured_program = build_textured_scene_program(true, placements);
   }
   const std::array<glm::vec3, 2> lights = light_directions();
   for (GLuint p : s.scene_programs()) {

@@ -35,6 +35,9 @@ struct TextureHandle {
   bool operator==(const TextureHandle&) const = default;
 };
 
+// A DrawRange drawn where its geometry lies, moved by no instance.
+inline constexpr uint32_t kNoInstance = UINT32_MAX;
+
 struct DrawRange {
   uint32_t first_index;  // into Scene::indices (or the mesh's indices), a multiple of 3
   uint32_t index_count;  // a multiple of 3
@@ -42,8 +45,12 @@ struct DrawRange {
   // None: the scene's own buffers; else a scene mesh (Device::create_scene_mesh), drawn with
   // the scene's lighting, materials and textures.
   MeshHandle mesh{};
+  // A scene mesh's range only: kNoInstance, or a scene instance (Scene::instances, whose
+  // material `material` must be) whose placement moves it, so that a copy is drawn from its
+  // prototype's geometry (a clusters level stored once for all copies).
+  uint32_t instance = kNoInstance;
 };
-static_assert(sizeof(DrawRange) == 16);
+static_assert(sizeof(DrawRange) == 20);
 
 // Vertices of technique meshes (stand-ins: colour-cube faces, textured boxes, billboards):
 // unlit, their colour already shaded when baked; alpha < 1 is blended. Counter-clockwise

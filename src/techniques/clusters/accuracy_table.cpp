@@ -115,8 +115,10 @@ class PagesOnRenderer {
         vertices_(vertices), uvs_(uvs), indices_(indices) {}
   ~PagesOnRenderer() { free_before(UINT32_MAX); }
 
-  // Indices [first, first + count) of the set, in page `page`, as a range of its mesh.
-  Result<DrawRange> range(uint32_t page, uint32_t first, uint32_t count, uint32_t material) {
+  // Indices [first, first + count) of the set, in page `page`, as a range of its mesh, placed
+  // by `instance` (DrawRange::instance).
+  Result<DrawRange> range(uint32_t page, uint32_t first, uint32_t count, uint32_t material,
+                          uint32_t instance = kNoInstance) {
     auto it = meshes_.find(page);
     if (it == meshes_.end()) {
       auto data = mesh_page(store_, prefix_, pages_, page, vertices_, uvs_, indices_);
@@ -125,7 +127,7 @@ class PagesOnRenderer {
       if (!made) return made.error();
       it = meshes_.emplace(page, *made).first;
     }
-    return DrawRange{first - pages_[page].first_index, count, material, it->second};
+    return DrawRange{first - pages_[page].first_index, count, material, it->second, instance};
   }
   void free_before(uint32_t page) {
     while (!meshes_.empty() && meshes_.begin()->first < page) {
@@ -290,7 +292,8 @@ Result<AccuracyTable> bake_accuracy_table(const Scene& scene, const LodSet& lods
     reps.clear();
     for (uint32_t l = begin; l < end; ++l) {
       auto range = lod_pages.range(lods.lod_page[l], lods.lods[l].first_index,
-                                   lods.lods[l].index_count, object.material);
+                                   lods.lods[l].index_count, object.material,
+                                   lods.instance_of(obj));
       if (!range) return range.error();
       reps.push_back({&table.lod_error[size_t(l) * k_count],
                       [&, r = *range](DrawList& list) { add_range(scene, r, list); }});

@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "farfield/core/text.hpp"
+#include "farfield/scene/instances.hpp"
 #include "farfield/scene/simplify.hpp"
 #include "farfield/store/blob_array.hpp"
 #include "farfield/store/store.hpp"
@@ -144,12 +145,17 @@ MeshPart gather_at_level(const Scene& scene, const LodSet* lods, std::span<const
       full.push_back(object);  // no levels: as it is
       continue;
     }
-    // A level's vertices are one run of the set's (lod_set.cpp lays each out whole).
+    // A level's vertices are one run of the set's (lod_set.cpp lays each out whole); an
+    // instance's are its prototype's, moved.
     const auto first = lods->indices.begin() + at.lod->first_index;
     const auto [low, high] = std::minmax_element(first, first + at.lod->index_count);
     const uint32_t base = uint32_t(part.vertices.size());
     part.vertices.insert(part.vertices.end(), lods->vertices.begin() + *low,
                          lods->vertices.begin() + *high + 1);
+    if (const uint32_t k = lods->instance_of(object); k != kNoInstance) {
+      const InstanceTransform move(scene.instances[k]);
+      for (auto v = part.vertices.begin() + base; v != part.vertices.end(); ++v) *v = move(*v);
+    }
     if (textured)
       part.uvs.insert(part.uvs.end(), lods->uvs.begin() + *low, lods->uvs.begin() + *high + 1);
     for (auto it = first; it != first + at.lod->index_count; ++it)

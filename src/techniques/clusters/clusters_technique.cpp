@@ -297,7 +297,7 @@ const TechniqueDescriptor clusters_descriptor{
     .paper = "001",
     .settings = kSettings,
     .bake = BakeUse::optional,
-    .bake_format = 7,
+    .bake_format = 8,  // 8: an instance's levels are its prototype's ranges
     .bake_renders = true,
     .bake_images_small = true,
     .streams = true,
@@ -719,18 +719,21 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   // fading in or out (switch_fades.hpp) are drawn on their share of the pixels.
   float coverage = 1.0f;
   bool complement = false;
-  auto push = [&](uint32_t first, uint32_t count, uint32_t material, MeshHandle mesh) {
+  // An instance's levels are its prototype's, placed (lod_set.hpp): a draw of their own.
+  auto push = [&](uint32_t first, uint32_t count, uint32_t material, MeshHandle mesh,
+                  uint32_t instance = kNoInstance) {
     const bool transparent = scene_->materials[material].transparent();
     if (coverage < 1.0f && !transparent) {
-      out.faded.push_back({{first, count, material, mesh}, coverage, complement});
+      out.faded.push_back({{first, count, material, mesh, instance}, coverage, complement});
       return;
     }
     auto& ranges = transparent ? out.transparent : out.opaque;
     if (!ranges.empty() && ranges.back().mesh == mesh && ranges.back().material == material &&
+        ranges.back().instance == instance &&
         ranges.back().first_index + ranges.back().index_count == first)
       ranges.back().index_count += count;
     else
-      ranges.push_back({first, count, material, mesh});
+      ranges.push_back({first, count, material, mesh, instance});
   };
   for (const ClusterStream::Placed& p : placed_) {
     const Choice& c = p.choice;
@@ -749,7 +752,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
         ++lods_drawn_;
         const Lod& lod = lods_.lods[c.index];
         push(lod.first_index - p.index_base, lod.index_count,
-             scene_->objects[lod.object].material, p.mesh);
+             scene_->objects[lod.object].material, p.mesh, lods_.instance_of(lod.object));
         break;
       }
       case Choice::Kind::whole:
@@ -797,7 +800,8 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
                cluster_mesh_);
       } else if (c.kind == Choice::Kind::lod) {
         const Lod& lod = lods_.lods[c.index];
-        push(lod.first_index, lod.index_count, scene_->objects[lod.object].material, lod_mesh_);
+        push(lod.first_index, lod.index_count, scene_->objects[lod.object].material, lod_mesh_,
+             lods_.instance_of(lod.object));
       } else if (c.kind == Choice::Kind::whole) {
         const Object& object = scene_->objects[c.index];
         push(object.first_index, object.index_count, object.material, {});

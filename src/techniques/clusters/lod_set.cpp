@@ -39,36 +39,37 @@ std::vector<SimplifiedPart> lod_chain(const Scene& scene, uint32_t object, const
   return chain;
 }
 
-// An instance's chain from its prototype's (Scene::instances): each level moved as the
-// instance moves the prototype, its error stretched as far as the instance stretches
-// distances. A simplification of the copy would differ from the moved one only by rounding.
-std::vector<SimplifiedPart> placed_chain(const std::vector<SimplifiedPart>& prototype,
-                                         const Instance& instance) {
-  const InstanceTransform move(instance);
-  const float stretch = float(largest_stretch(instance.linear));
-  std::vector<SimplifiedPart> chain = prototype;
-  for (SimplifiedPart& lod : chain) {
-    for (Vertex& v : lod.mesh.vertices) v = move(v);
-    lod.error_m *= stretch;
-  }
-  return chain;
+// Per object, its instance or kNoInstance (LodSet::object_instance); empty without any.
+std::vector<uint32_t> object_instances(const Scene& scene) {
+  std::vector<uint32_t> out;
+  if (scene.instances.empty()) return out;
+  out.assign(scene.objects.size(), kNoInstance);
+  for (uint32_t k = 0; k < scene.instances.size(); ++k) out[scene.instances[k].object] = k;
+  return out;
 }
 
-// The chains (per object, finest first) laid out in pages of neighbours in `order` (lod_set.hpp),
-// each group's chains freed once laid out, so that the chains and the set together stay about
-// one set's size (the arrays reserved whole: `vertices`, `indices` in all).
-LodSet lay_out_pages(std::vector<PartList>& chains, std::span<const uint32_t> order,
-                     uint64_t page_triangles, bool textured, size_t vertices, size_t indices) {
+// The chains (per object, finest first; an instance's empty) laid out in pages of neighbours
+// in `order` (lod_set.hpp), each group's chains freed once laid out, so that the chains and
+// the set together stay about one set's size (the arrays reserved whole: `vertices`,
+// `indices` in all). An instance's levels are its prototype's ranges, each error stretched
+// as the instance stretches distances (instances.hpp: largest_stretch), so that it still
+// bounds the copy's distance from its level.
+LodSet lay_out_pages(std::vector<PartList>& chains, std::span<const Instance> instances,
+                     std::span<const uint32_t> order, uint64_t page_triangles, bool textured,
+                     size_t vertices, size_t indices) {
   LodSet set;
   set.vertices.reserve(vertices);
   if (textured) set.uvs.reserve(vertices);
   set.indices.reserve(indices);
   const size_t objects = chains.size();
   set.first_lod.reserve(objects + 1);
-  for (size_t i = 0; i < objects; ++i) {
+  for (size_t i = 0, next = 0; i < objects; ++i) {
     set.first_lod.push_back(uint32_t(set.lods.size()));
-    for (const SimplifiedPart& lod : chains[i])
-      set.lods.push_back({uint32_t(i), 0, uint32_t(lod.mesh.indices.size()), lod.error_m});
+    const bool copy = next < instances.size() && instances[next].object == i;
+    const float stretch = copy ? float(largest_stretch(instances[next].linear)) : 1.0f;
+    for (const SimplifiedPart& lod : chains[copy ? instances[next].prototype : i])
+      set.lods.push_back({uint32_t(i), 0, uint32_t(lod.mesh.indices.size()), lod.error_m * stretch});
+    next += copy;
   }
   set.first_lod.push_back(uint32_t(set.lods.size()));
   set.lod_page.assign(set.lods.size(), 0);
@@ -105,6 +106,14 @@ LodSet lay_out_pages(std::vector<PartList>& chains, std::span<const uint32_t> or
     begin = end;
   }
   set.pages = pages_of_runs(set.indices, uint32_t(set.vertices.size()), index_ends);
+  for (const Instance& instance : instances)
+    for (uint32_t l = 0; l < set.first_lod[instance.object + 1] - set.first_lod[instance.object];
+         ++l) {
+      const uint32_t theirs = set.first_lod[instance.prototype] + l;
+      const uint32_t ours = set.first_lod[instance.object] + l;
+      set.lods[ours].first_index = set.lods[theirs].first_index;
+      set.lod_page[ours] = set.lod_page[theirs];
+    }
   return set;
 }
 
@@ -153,14 +162,13 @@ Result<LodSet> build_lod_set(const Scene& scene, const LodSetOptions& o, Progres
   if (!simplified) return simplified.error();
   std::vector<PartList> chains(objects);
   for (size_t i = 0; i < own.size(); ++i) chains[own[i]] = std::move((*simplified)[i]);
-  for (const Instance& instance : scene.instances)
-    chains[instance.object] = placed_chain(chains[instance.prototype], instance);
 
   const PartSizes sizes = sizes_of(chains);
   if (!sizes.fit_uint32())
     return make_error("the scene's LODs need more than 2^32 vertices or indices");
-  LodSet set = lay_out_pages(chains, order_of_pages, o.page_triangles, !scene.uvs.empty(),
-                             sizes.vertices, sizes.indices);
+  LodSet set = lay_out_pages(chains, scene.instances, order_of_pages, o.page_triangles,
+                             !scene.uvs.empty(), sizes.vertices, sizes.indices);
+  set.object_instance = object_instances(scene);
   set.bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return set;
 }
@@ -205,6 +213,17 @@ Result<LodSet> load_lod_set(const Store& store, const Scene& scene, GeometryLoad
     ++set.first_lod[l.object + 1];
   }
   for (size_t i = 1; i < set.first_lod.size(); ++i) set.first_lod[i] += set.first_lod[i - 1];
+  for (const Instance& instance : scene.instances) {
+    const uint32_t ours = set.first_lod[instance.object], theirs = set.first_lod[instance.prototype];
+    if (set.first_lod[instance.object + 1] - ours !=
+        set.first_lod[instance.prototype + 1] - theirs)
+      return inconsistent("an instance's levels not its prototype's");
+    for (uint32_t l = 0; l < set.first_lod[instance.object + 1] - ours; ++l)
+      if ((*lods)[ours + l].first_index != (*lods)[theirs + l].first_index ||
+          (*lods)[ours + l].index_count != (*lods)[theirs + l].index_count)
+        return inconsistent("an instance's levels not its prototype's");
+  }
+  set.object_instance = object_instances(scene);
   if (geometry == GeometryLoad::whole)
     if (auto read = read_mesh_pages(store, kLodPagePrefix, *pages, set.vertices, set.uvs,
                                     set.indices);

@@ -20,6 +20,13 @@ constexpr const char* kIndices = "colorcube/proxy_indices";
 constexpr const char* kSceneRanges = "colorcube/scene_ranges";
 constexpr const char* kStats = "colorcube/stats";
 
+// A scene range as stored (the layout DrawRange had when the format was made; a leaf's ranges
+// are the scene's own, placed by no instance).
+struct StoredRange {
+  uint32_t first_index, index_count, material, mesh;
+};
+static_assert(sizeof(StoredRange) == 16);
+
 }  // namespace
 
 Result<void> save_cube_tree(const CubeTree& tree, Store& store) {
@@ -29,7 +36,11 @@ Result<void> save_cube_tree(const CubeTree& tree, Store& store) {
   if (auto ok = store.put(kCells, bytes_of(tree.cells)); !ok) return ok;
   if (auto ok = store.put(kVertices, bytes_of(tree.proxies.vertices)); !ok) return ok;
   if (auto ok = store.put(kIndices, bytes_of(tree.proxies.indices)); !ok) return ok;
-  if (auto ok = store.put(kSceneRanges, bytes_of(tree.scene_ranges)); !ok) return ok;
+  std::vector<StoredRange> ranges;
+  ranges.reserve(tree.scene_ranges.size());
+  for (const DrawRange& r : tree.scene_ranges)
+    ranges.push_back({r.first_index, r.index_count, r.material, r.mesh.id});
+  if (auto ok = store.put(kSceneRanges, bytes_of(ranges)); !ok) return ok;
   const std::vector<CubeTreeStats> stats{tree.stats};
   if (auto ok = store.put(kStats, bytes_of(stats)); !ok) return ok;
   const CubeTreeStats& s = tree.stats;
@@ -51,7 +62,7 @@ Result<CubeTree> load_cube_tree(const Store& store, const Scene& scene) {
   if (!vertices) return vertices.error();
   auto indices = read_array<uint32_t>(store, kIndices);
   if (!indices) return indices.error();
-  auto scene_ranges = read_array<DrawRange>(store, kSceneRanges);
+  auto scene_ranges = read_array<StoredRange>(store, kSceneRanges);
   if (!scene_ranges) return scene_ranges.error();
   auto stats = read_array<CubeTreeStats>(store, kStats);
   if (!stats) return stats.error();
@@ -62,10 +73,10 @@ Result<CubeTree> load_cube_tree(const Store& store, const Scene& scene) {
   if (cells->empty()) return inconsistent("no cells");
   for (uint32_t index : *indices)
     if (index >= vertices->size()) return inconsistent("a proxy index past the vertices");
-  for (const DrawRange& r : *scene_ranges)
+  for (const StoredRange& r : *scene_ranges)
     if (r.first_index % 3 != 0 || r.index_count % 3 != 0 ||
         uint64_t(r.first_index) + r.index_count > scene.indices.size() ||
-        r.material >= scene.materials.size() || r.mesh)
+        r.material >= scene.materials.size() || r.mesh != 0)
       return inconsistent("a scene range past the scene");
   for (size_t i = 0; i < cells->size(); ++i) {
     const CubeCell& c = (*cells)[i];
@@ -85,7 +96,9 @@ Result<CubeTree> load_cube_tree(const Store& store, const Scene& scene) {
   tree.cells = std::move(*cells);
   tree.proxies.vertices = std::move(*vertices);
   tree.proxies.indices = std::move(*indices);
-  tree.scene_ranges = std::move(*scene_ranges);
+  tree.scene_ranges.reserve(scene_ranges->size());
+  for (const StoredRange& r : *scene_ranges)
+    tree.scene_ranges.push_back({r.first_index, r.index_count, r.material});
   tree.stats = (*stats)[0];
   return tree;
 }

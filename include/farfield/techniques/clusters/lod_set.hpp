@@ -21,7 +21,10 @@ namespace farfield {
 class Store;
 struct BakeShards;
 
-// One simplified version of an object: a range of LodSet::indices, its geometric error.
+// One simplified version of an object: a range of LodSet::indices, its geometric error. An
+// instance's (Scene::instances) levels are its prototype's ranges, drawn with the instance's
+// placement (DrawRange::instance), so that a field of copies stores and uploads one chain;
+// its errors are the prototype's stretched as the instance stretches distances.
 struct Lod {
   uint32_t object;
   uint32_t first_index, index_count;  // into LodSet::indices (absolute into its vertices)
@@ -53,8 +56,15 @@ struct LodSet {
   std::vector<uint32_t> first_lod;  // per object, and one past the last: its lods' range
   std::vector<MeshPage> pages;
   std::vector<uint32_t> lod_page;  // per lod: the page holding it
+  // Per object, its instance (into Scene::instances) or kNoInstance; empty in a scene without
+  // instances.
+  std::vector<uint32_t> object_instance;
   double bake_s = 0;
   uint64_t triangle_count() const { return triangles_of_pages(pages); }
+  // The instance whose placement draws `object`'s levels, or kNoInstance.
+  uint32_t instance_of(uint32_t object) const {
+    return object_instance.empty() ? kNoInstance : object_instance[object];
+  }
 };
 
 // Laid out in pages of groups of neighbours in `page_order` (every object once; empty: scene
