@@ -593,6 +593,15 @@ TEST(FrameCostModel, FitsAPartPerDrawWhereDrawsVaryOnTheirOwn) {
   }
   EXPECT_EQ(together.ms_per_draw(), 0.0);
   EXPECT_NEAR(together.ms_per_triangle(), 0.002, 1e-9);
+  // A draw that would cost as much as 50,000 triangles: some other cost moving with the
+  // draws, not theirs; the draws are left out.
+  FrameCostModel implausible;
+  for (int i = 0; i < 60; ++i) {
+    const double triangles = 100000.0 + 50000.0 * (i % 5), draws = 2.0 + 2.0 * (i % 7);
+    implausible.observe({triangles, draws}, 5.0 + 1e-4 * triangles + 5.0 * draws);
+  }
+  EXPECT_EQ(implausible.ms_per_draw(), 0.0);
+  EXPECT_GT(implausible.ms_per_triangle(), 0.0);
 }
 
 // Frames whose pixels vary apart from their triangles and draws give a part per pixel too

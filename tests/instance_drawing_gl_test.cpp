@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "farfield/core/assert.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/gpu/renderer.hpp"
 #include "farfield/scene/instances.hpp"
@@ -283,6 +284,66 @@ TEST_F(InstanceDrawingGL, AMeshRangeNamingAnInstanceDrawsTheCopy) {
     // Not placed, the prototype's geometry is drawn where the prototype is.
     EXPECT_GT(differing(render(*r, view_, unplaced), expected), 20u);
   }
+}
+
+// A prototype's mesh range for several of its instances, the ranges side by side: one
+// instanced command (records made for the frame) that draws what the copies' own ranges do;
+// textured copies too.
+TEST_F(InstanceDrawingGL, CopiesOfOneMeshRangeAreOneInstancedCommand) {
+  // Held geometry of `object` as a scene mesh of `r`, drawn for `instances`.
+  auto copies_of = [](const Scene& scene, gpu::Renderer& r, uint32_t object,
+                      std::initializer_list<uint32_t> instances) {
+    const Object& o = scene.objects[object];
+    std::vector<Vertex> vertices(scene.vertices.begin() + o.first_vertex,
+                                 scene.vertices.begin() + o.first_vertex + o.vertex_count);
+    std::vector<glm::vec2> uvs;
+    if (!scene.uvs.empty())
+      uvs.assign(scene.uvs.begin() + o.first_uv, scene.uvs.begin() + o.first_uv + o.vertex_count);
+    std::vector<uint32_t> indices;
+    for (uint32_t i = o.first_index; i < o.first_index + o.index_count; ++i)
+      indices.push_back(scene.indices[i] - o.first_vertex);
+    auto mesh = r.create_scene_mesh(vertices, uvs, indices);
+    FF_ASSERT(mesh.ok(), "mesh");
+    DrawList list;
+    for (uint32_t k : instances)
+      list.opaque.push_back({0, uint32_t(indices.size()), o.material, *mesh, k});
+    return list;
+  };
+  auto own_ranges = [](const Scene& scene, std::initializer_list<uint32_t> instances) {
+    DrawList list;
+    for (uint32_t k : instances) {
+      const Object& o = scene.objects[scene.instances[k].object];
+      list.opaque.push_back({o.first_index, o.index_count, o.material});
+    }
+    return list;
+  };
+  // Instances 0 ("lifted 0", moved) and 3 ("turned"), both of object 0.
+  const Scene scene = copied_row(true);
+  make(scene);
+  ASSERT_EQ(scene.instances[0].prototype, scene.instances[3].prototype);
+  for (gpu::Renderer* r : {placed_.get(), expanded_.get()}) {
+    const DrawList both = copies_of(scene, *r, scene.instances[0].prototype, {0, 3});
+    r->set_offscreen(view_.width, view_.height);
+    EXPECT_EQ(r->draw(view_, both).draw_calls, 1u);
+    const Image drawn = render(*r, view_, both);
+    EXPECT_GT(not_sky(drawn), 100u);
+    EXPECT_LE(differing(drawn, render(*r, view_, own_ranges(scene, {0, 3}))), 4u);
+  }
+
+  // A textured quad and two moved copies: exact.
+  Scene textured = test::make_textured_scene();
+  const uint32_t quad = uint32_t(textured.objects.size() - 1);
+  SceneBuilder b(textured);
+  b.add_instance("quad copy", ObjectKind::mesh, quad, glm::mat3(1.0f), {2.5f, 0.0f, 0.0f});
+  b.add_instance("quad copy 2", ObjectKind::mesh, quad, glm::mat3(1.0f), {-2.5f, 0.0f, 0.0f});
+  make(textured);
+  const View behind = look_at({0.5f, 1.0f, 9.0f}, {0.5f, 1.0f, 3.0f});
+  const DrawList pair = copies_of(textured, *placed_, quad, {0, 1});
+  placed_->set_offscreen(behind.width, behind.height);
+  EXPECT_EQ(placed_->draw(behind, pair).draw_calls, 1u);
+  const Image drawn = render(*placed_, behind, pair);
+  EXPECT_GT(not_sky(drawn), size_t(drawn.width * drawn.height / 20));
+  EXPECT_EQ(drawn.rgb, render(*placed_, behind, own_ranges(textured, {0, 1})).rgb);
 }
 
 TEST(InstanceDrawingCli, BenchReportsTheGeometryItUploads) {

@@ -3,14 +3,15 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
-#include <chrono>
 #include <array>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <compare>
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -90,6 +91,15 @@ struct Renderer::State {
   std::vector<Placement> placements;  // per record; empty in a scene without instances
   std::vector<uint32_t> instance_materials;  // per instance
   GLuint placement_buffer = 0;
+  // Records of this frame's instanced commands (a scene mesh's range drawn for several
+  // instances in one command, DrawRange::instance), after the fixed ones: each a copy of its
+  // instance's record. Their materials and texturing are copied from the fixed records'.
+  uint32_t frame_records_first = 0, frame_records_capacity = 0;
+  std::vector<Material> record_materials;             // the fixed records'
+  std::vector<MaterialTexturing> record_texturing;    // the fixed records' (textured scenes)
+  std::vector<Material> frame_materials;
+  std::vector<MaterialTexturing> frame_texturing;
+  std::vector<Placement> frame_placements;
   GLuint command_placement_buffer = 0;  // the visibility pass's, per command
   size_t command_placement_capacity = 0;
   uint64_t geometry_bytes = 0;  // of the chunks' buffers
@@ -251,17 +261,27 @@ struct Renderer::State {
                         bool opaque) {
     batches.clear();
     const std::vector<DrawRange>* in = &ranges;
-    if (opaque && !uniform_drawing) {
+    // Opaque ranges that name instances are also grouped by what they draw (mesh and range), so
+    // that the copies of one range are one instanced command.
+    const bool copies = opaque && frame_records_capacity > 0 &&
+                        std::count_if(ranges.begin(), ranges.end(), [](const DrawRange& r) {
+                          return r.instance != kNoInstance;
+                        }) > 1;
+    if (opaque && (!uniform_drawing || copies)) {
       sorted_ranges = ranges;
+      const auto key = [&](const DrawRange& r) {
+        const bool copy = r.instance != kNoInstance;
+        return std::tuple(drawings[r.material], copy, copy ? r.mesh.id : 0u,
+                          copy ? r.first_index : 0u, copy ? r.index_count : 0u);
+      };
       std::stable_sort(sorted_ranges.begin(), sorted_ranges.end(),
-                       [&](const DrawRange& a, const DrawRange& b) {
-                         return drawings[a.material] < drawings[b.material];
-                       });
+                       [&](const DrawRange& a, const DrawRange& b) { return key(a) < key(b); });
       in = &sorted_ranges;
     }
-    for (const DrawRange& r : *in) {
+    for (size_t i = 0; i < in->size(); ++i) {
+      const DrawRange& r = (*in)[i];
       if (r.mesh) {
-        add_scene_mesh_range(r, batches);
+        i += add_scene_mesh_ranges(*in, i, batches) - 1;
         continue;
       }
       FF_ASSERT(r.instance == kNoInstance, "a range of the scene's own buffers names instance %u",
@@ -353,8 +373,12 @@ struct Renderer::State {
                          indices.data());
   }
 
-  // A range of a scene mesh: one command, indices from the mesh's start.
-  void add_scene_mesh_range(const DrawRange& r, std::vector<SceneBatch>& batches) {
+  // A range of a scene mesh, ranges[at]: one command, indices from the mesh's start; with the
+  // ranges after it that draw the same for other instances, one instanced command whose
+  // records this frame makes (as long as there is room). Returns the ranges it took.
+  size_t add_scene_mesh_ranges(const std::vector<DrawRange>& ranges, size_t at,
+                               std::vector<SceneBatch>& batches) {
+    const DrawRange& r = ranges[at];
     const GpuMesh& mesh = resources.mesh(r.mesh);
     FF_ASSERT(mesh.kind == MeshKind::scene, "scene range names mesh %u, which is no scene mesh",
               r.mesh.id);
@@ -364,16 +388,59 @@ struct Renderer::State {
               "range [%u, +%u) material %u outside mesh %u's %u indices and %u materials",
               r.first_index, r.index_count, r.material, r.mesh.id, mesh.index_count,
               white_material);
-    FF_ASSERT(r.instance == kNoInstance || (r.instance < instance_materials.size() &&
-                                            instance_materials[r.instance] == r.material),
-              "range of mesh %u placed by instance %u of %zu, whose material is not %u",
-              r.mesh.id, r.instance, instance_materials.size(), r.material);
+    size_t n = 1;
+    if (r.instance != kNoInstance)
+      while (at + n < ranges.size() && frame_placements.size() + n < frame_records_capacity) {
+        const DrawRange& next = ranges[at + n];
+        if (next.instance == kNoInstance || next.mesh != r.mesh ||
+            next.first_index != r.first_index || next.index_count != r.index_count ||
+            next.material != r.material)
+          break;
+        ++n;
+      }
+    for (size_t k = at; k < at + n; ++k)
+      FF_ASSERT(ranges[k].instance == kNoInstance ||
+                    (ranges[k].instance < instance_materials.size() &&
+                     instance_materials[ranges[k].instance] == r.material),
+                "range of mesh %u placed by instance %u of %zu, whose material is not %u",
+                r.mesh.id, ranges[k].instance, instance_materials.size(), r.material);
+    uint32_t record =
+        r.instance == kNoInstance ? r.material : instance_record(r.instance, false);
+    if (n > 1) {
+      record = frame_records_first + uint32_t(frame_placements.size());
+      for (size_t k = at; k < at + n; ++k) {
+        const uint32_t fixed = instance_record(ranges[k].instance, false);
+        frame_placements.push_back(placements[fixed]);
+        frame_materials.push_back(record_materials[fixed]);
+        if (!record_texturing.empty()) frame_texturing.push_back(record_texturing[fixed]);
+      }
+    }
     const Drawing drawing = drawings[r.material];
     if (batches.empty() || batches.back().vao != mesh.vao || batches.back().drawing != drawing)
       batches.push_back({mesh.vao, commands.size(), 0, drawing, r.mesh.id});
-    commands.push_back({r.index_count, 1, r.first_index, 0,
-                        r.instance == kNoInstance ? r.material : instance_record(r.instance, false)});
+    commands.push_back({r.index_count, GLuint(n), r.first_index, 0, record});
     batches.back().count++;
+    return n;
+  }
+
+  // This frame's records of instanced commands, to their buffers; the next frame starts anew.
+  void upload_frame_records() {
+    if (!frame_placements.empty()) {
+      const GLintptr first = frame_records_first;
+      glNamedBufferSubData(placement_buffer, first * GLintptr(sizeof(Placement)),
+                           GLsizeiptr(frame_placements.size() * sizeof(Placement)),
+                           frame_placements.data());
+      glNamedBufferSubData(material_buffer, first * GLintptr(sizeof(Material)),
+                           GLsizeiptr(frame_materials.size() * sizeof(Material)),
+                           frame_materials.data());
+      if (!frame_texturing.empty())
+        glNamedBufferSubData(texturing_buffer, first * GLintptr(sizeof(MaterialTexturing)),
+                             GLsizeiptr(frame_texturing.size() * sizeof(MaterialTexturing)),
+                             frame_texturing.data());
+    }
+    frame_placements.clear();
+    frame_materials.clear();
+    frame_texturing.clear();
   }
 
   // What every vertex array of scene geometry reads besides its vertices (binding 0) and
@@ -777,10 +844,17 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
       s.placements.push_back(p);
       s.placements.push_back(p);
     }
+    // Room for the records of instanced commands, rewritten each frame (State::frame_*).
+    s.frame_records_first = uint32_t(s.placements.size());
+    s.frame_records_capacity = uint32_t(std::min<size_t>(2 * scene.instances.size() + 16, 65536));
+    s.placements.resize(s.placements.size() + s.frame_records_capacity, identity_placement());
     if (auto made = make_buffer(s.placement_buffer, "placement buffer",
-                                s.placements.size() * sizeof(Placement), s.placements.data(), 0);
+                                s.placements.size() * sizeof(Placement), s.placements.data(),
+                                GL_DYNAMIC_STORAGE_BIT);
         !made)
       return made.error();
+    s.record_materials = materials;
+    materials.resize(s.placements.size(), Material{glm::vec4(1.0f)});
   }
   const Scene& uploaded = placed ? stored : scene;
   // A scene without geometry (its index, the geometry left on disk) gets no buffers: its
@@ -791,7 +865,8 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
     s.chunk_ranges = std::move(*planned);
   }
   if (auto made = make_buffer(s.material_buffer, "material buffer",
-                              materials.size() * sizeof(Material), materials.data(), 0);
+                              materials.size() * sizeof(Material), materials.data(),
+                              s.frame_records_capacity ? GL_DYNAMIC_STORAGE_BIT : 0);
       !made)
     return made.error();
   const bool textured = std::any_of(scene.materials.begin(), scene.materials.end(),
@@ -811,8 +886,11 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
       texturing.push_back(s.textures->materials()[material]);
       texturing.push_back({});
     }
+    s.record_texturing = texturing;
+    texturing.resize(texturing.size() + s.frame_records_capacity);
     if (auto made = make_buffer(s.texturing_buffer, "material texturing buffer",
-                                texturing.size() * sizeof(MaterialTexturing), texturing.data(), 0);
+                                texturing.size() * sizeof(MaterialTexturing), texturing.data(),
+                                s.frame_records_capacity ? GL_DYNAMIC_STORAGE_BIT : 0);
         !made)
       return made.error();
   }
@@ -916,6 +994,7 @@ FrameStats Renderer::draw_with(const glm::mat4& view_projection, int width, int 
   s.add_indexed_runs(list, list.indexed_opaque, s.opaque_batches, true);
   s.add_indexed_runs(list, list.indexed_transparent, s.transparent_batches, false);
   s.add_faded_ranges(list.faded);
+  s.upload_frame_records();
   s.upload_scene_indices(list);
   const size_t scene_commands = s.commands.size();
   s.plan_meshes(list);  // its commands follow the scene's

@@ -113,7 +113,13 @@ FrameCostModel::Fit FrameCostModel::solve(const Sums& s, bool& separated) const 
       fit.per[parts[k]] = x[k];
       fit.fixed -= x[k] * mean[parts[k]];
     }
-    if (positive && fit.fixed >= 0.0) {
+    // A draw priced as more than kMaxTrianglesPerDraw triangles has taken another cost that
+    // moves with the draws for its own: on the 256-tree field's fly the few draws of the near
+    // trees' levels (2 to 12 a frame) came out at 0.8 and 1.2 ms each, 26,000 and 43,000
+    // triangles' worth, where a draw on llvmpipe costs hundreds; frames of many triangles in
+    // few draws were then priced at half their time.
+    const bool plausible = fit.per[1] <= kMaxTrianglesPerDraw * fit.per[0];
+    if (positive && plausible && fit.fixed >= 0.0) {
       separated = true;
       return fit;
     }

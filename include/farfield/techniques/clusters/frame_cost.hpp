@@ -66,6 +66,9 @@ class FrameCostModel {
   // Each frame's weight against the previous ones': the recent frames (about ten), and a
   // longer memory (about a hundred) for when the recent ones do not vary.
   static constexpr double kKeep = 0.9, kKeepLonger = 0.99;
+  // The most triangles a draw may cost as much as; a fit above it leaves the draws out (a
+  // draw costs hundreds of triangles on llvmpipe, thousands on a GPU).
+  static constexpr double kMaxTrianglesPerDraw = 16384.0;
   bool use_pixels_;
   Sums recent_, longer_;
   Fit fit_;  // after the last observe()
