@@ -1,6 +1,7 @@
 // `farfield bake --technique clusters` as a user meets it: killed with SIGKILL half-way and
 // run again, it finishes without redoing the objects it had simplified, leaves no work behind,
-// and a damaged blob stops the bench with its name.
+// and a damaged blob stops the bench with its name; a field of copies is baked and walked as
+// one chain of levels.
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -11,6 +12,9 @@
 #include <regex>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
+#include "farfield/gpu/context.hpp"
 #include "farfield/store/store.hpp"
 #include "test_util.hpp"
 
@@ -96,6 +100,52 @@ TEST(ClustersCli, ADamagedBlobIsNamed) {
   EXPECT_EQ(r.exit_status, 1);
   EXPECT_NE(r.output.find("blob 'clusters/tree_nodes' is corrupted"), std::string::npos)
       << r.output;
+}
+
+// Nine copies of a tree (Scene::instances) and one tree alone: the field's pack stores one
+// chain of levels (as many level triangles as the lone tree's), its walk draws the copies'
+// levels, and from disk with a small cache (waiting for its pages) the frames are those of the
+// walk in memory.
+TEST(ClustersCli, AFieldsCopiesAreBakedAndWalkedAsOneChain) {
+  if (auto context = gpu::create_headless_context(); !context)
+    GTEST_SKIP() << context.error().message;
+  test::TempDir dir;
+  const std::string cwd = dir.path().string();
+  for (const char* command :
+       {"generate tree --iterations 3 -q --out tree.ffscene",
+        "generate field --mesh tree.ffscene --count 9 -q --out field.ffscene",
+        "generate field --mesh tree.ffscene --count 1 -q --out one.ffscene",
+        "path field.ffscene --kind orbit --frames 6 --out orbit.json",
+        "bake field.ffscene -t clusters --set clusters.accuracy_directions=4 -q --out f.ffpack",
+        "bake one.ffscene -t clusters --set clusters.accuracy_directions=4 -q --out o.ffpack"}) {
+    const auto r = run_farfield(command, cwd);
+    ASSERT_EQ(r.exit_status, 0) << command << ": " << r.output;
+  }
+  auto walk = [&](const std::string& scene, const std::string& pack, const std::string& more,
+                  const std::string& out) {
+    const auto r = run_farfield("bench " + scene + " --store " + pack +
+                                    " --path orbit.json -t brute,clusters --reference-every 1"
+                                    " --set clusters.error_px=4 --set clusters.errors=geometric"
+                                    " --width 160 --height 120 --no-plot -q --out " +
+                                    out + more,
+                                cwd);
+    EXPECT_EQ(r.exit_status, 0) << r.output;
+    const auto json = nlohmann::json::parse(test::read_file(dir.file(out + "/bench.json")));
+    return json["techniques"][1];
+  };
+  const auto one = walk("one.ffscene", "o.ffpack", "", "one");
+  const auto memory = walk("field.ffscene", "f.ffpack", "", "memory");
+  const auto disk =
+      walk("field.ffscene", "f.ffpack", " --cache-mb 16 --set clusters.wait=1", "disk");
+  ASSERT_EQ(memory["name"], "clusters");
+  EXPECT_EQ(memory["figures"]["lod_triangles"], one["figures"]["lod_triangles"]);
+  EXPECT_EQ(memory["figures"]["lods"].get<double>(), 9 * one["figures"]["lods"].get<double>());
+  EXPECT_GT(memory["figures"]["mean_objects_as_lods"].get<double>(), 3.0);
+  EXPECT_GT(memory["summary"]["psnr_db_mean"].get<double>(), 20.0);
+  EXPECT_EQ(disk["figures"]["coarser_frames"].get<double>(), 0.0);
+  ASSERT_EQ(memory["frames"].size(), disk["frames"].size());
+  for (size_t f = 0; f < memory["frames"].size(); ++f)
+    EXPECT_EQ(memory["frames"][f]["psnr_db"], disk["frames"][f]["psnr_db"]) << "frame " << f;
 }
 
 }  // namespace
