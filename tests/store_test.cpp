@@ -13,6 +13,7 @@
 
 #include "farfield/eval/image_metrics.hpp"
 #include "farfield/scene/scene_file.hpp"
+#include "farfield/store/bake_record.hpp"
 #include "test_util.hpp"
 
 namespace farfield {
@@ -206,6 +207,29 @@ TEST(Store, MetaIsKeptAndListedByPrefix) {
   EXPECT_EQ(store.list_meta("stratified.").value(),
             (P{{"stratified.alpha_deg", "1.5"}, {"stratified.shells", "5"}}));
   EXPECT_EQ(store.list_meta().value().size(), 4u);
+}
+
+// A bake record is used where its format is the one read, or (given) one from an oldest
+// format on: a format change that only scenes with instances see leaves plain scenes' packs
+// usable (TechniqueDescriptor::plain_scene_format); otherwise the error says to re-bake.
+TEST(Store, BakeRecordsOfAnOlderFormatAreUsedOnlyWhereAllowed) {
+  TempDir dir;
+  const std::string path = dir.file("a.ffpack");
+  {
+    Store store = open_or_die(path, Store::Mode::kReadWrite);
+    ASSERT_TRUE(write_bake_record(store, {"clusters", 7, 0x1234, 1.0, {}}));
+  }
+  Store store = open_or_die(path, Store::Mode::kRead);
+  EXPECT_TRUE(usable_bake(store, "clusters", 7, 0x1234));
+  const auto newer = usable_bake(store, "clusters", 8, 0x1234);
+  ASSERT_FALSE(newer);
+  EXPECT_NE(newer.error().message.find("has format 7 and this farfield reads format 8"),
+            std::string::npos)
+      << newer.error().message;
+  EXPECT_TRUE(usable_bake(store, "clusters", 8, 0x1234, 7));
+  EXPECT_FALSE(usable_bake(store, "clusters", 9, 0x1234, 8));
+  EXPECT_FALSE(usable_bake(store, "clusters", 6, 0x1234, 5));  // newer than this farfield
+  EXPECT_FALSE(usable_bake(store, "clusters", 8, 0x9999, 7));  // another scene
 }
 
 TEST(Store, ReadOnlyStoreRefusesWrites) {

@@ -82,7 +82,8 @@ Result<std::vector<PlannedTechnique>> plan_run(const std::vector<std::string>& n
       auto record = read_bake_record(*store, name);
       if (!record) return record.error();
       if (*record || d->bake == BakeUse::required) {
-        auto usable = usable_bake(*store, name, d->bake_format, fingerprint);
+        auto usable =
+            usable_bake(*store, name, d->bake_format, fingerprint, d->oldest_format(scene));
         if (!usable) return usable.error();
         p.bake = std::move(*usable);
       }

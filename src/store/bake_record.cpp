@@ -70,7 +70,7 @@ Result<std::optional<BakeRecord>> read_bake_record(const Store& store, std::stri
 }
 
 Result<BakeRecord> usable_bake(const Store& store, std::string_view technique, int format,
-                               uint64_t scene) {
+                               uint64_t scene, int oldest) {
   const std::string name(technique);
   auto record = read_bake_record(store, technique);
   if (!record) return record.error();
@@ -89,7 +89,8 @@ Result<BakeRecord> usable_bake(const Store& store, std::string_view technique, i
                       "--technique ",
                       name, " --out ", store.path(), ")");
   }
-  if ((*record)->format != format)
+  if ((*record)->format != format &&
+      !(oldest > 0 && (*record)->format >= oldest && (*record)->format < format))
     return make_error(store.path(), ": its ", name, " bake has format ",
                       std::to_string((*record)->format), " and this farfield reads format ",
                       std::to_string(format), "; re-bake it: farfield bake SCENE --technique ",

@@ -33,9 +33,9 @@ Result<void> erase_bake_record(Store& store, std::string_view technique);
 // is an error naming the pack.
 Result<std::optional<BakeRecord>> read_bake_record(const Store& store, std::string_view technique);
 
-// The record of a bake that a run can use: present, of `format` and made for `scene`; errors
-// name the pack and the technique and say how to re-bake.
+// The record of a bake that a run can use: present, of `format` (or one from `oldest` on, where
+// given) and made for `scene`; errors name the pack and the technique and say how to re-bake.
 Result<BakeRecord> usable_bake(const Store& store, std::string_view technique, int format,
-                               uint64_t scene);
+                               uint64_t scene, int oldest = 0);
 
 }  // namespace farfield

@@ -80,6 +80,9 @@ struct TechniqueDescriptor {
   std::span<const SettingSpec> settings;
   BakeUse bake = BakeUse::none;
   int bake_format = 0;        // the pack's format of this technique's bake; raise on change
+  // > 0: packs from this format on read as bake_format's where the scene has no instances (a
+  // change that only instances' data made), so that they need no new bake.
+  int plain_scene_format = 0;
   bool bake_renders = false;  // its bake draws the scene (BakeContext::renderer)
   // Its bake draws many small images (tables, box sides): on the calling thread alone.
   bool bake_images_small = false;
@@ -97,6 +100,10 @@ struct TechniqueDescriptor {
   std::vector<std::string> (*parts)(const SettingValues& settings) = nullptr;
 
   const SettingSpec* setting(std::string_view key) const;
+  // The oldest bake format this farfield reads for `scene` (plain_scene_format or bake_format).
+  int oldest_format(const Scene& scene) const {
+    return plain_scene_format > 0 && scene.instances.empty() ? plain_scene_format : bake_format;
+  }
 };
 
 // Every technique this build knows, in the order of --help.

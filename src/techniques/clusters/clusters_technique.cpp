@@ -300,6 +300,7 @@ const TechniqueDescriptor clusters_descriptor{
     .settings = kSettings,
     .bake = BakeUse::optional,
     .bake_format = 8,  // 8: an instance's levels are its prototype's ranges
+    .plain_scene_format = 7,
     .bake_renders = true,
     .bake_images_small = true,
     .streams = true,
@@ -462,7 +463,8 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
   if (*record) {
     if (auto usable = usable_bake(*context.store, "clusters", clusters_descriptor.bake_format,
                                   context.on_disk ? context.on_disk->fingerprint()
-                                                  : scene_fingerprint(context.scene));
+                                                  : scene_fingerprint(context.scene),
+                                  clusters_descriptor.oldest_format(context.scene));
         !usable)
       return usable.error();
     // The scene left on disk: the meshes stay in the pack and stream (cluster_stream.hpp).
