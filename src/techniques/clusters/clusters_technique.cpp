@@ -945,12 +945,19 @@ void ClustersTechnique::tint(DrawList& list) const {
 }
 
 std::string ClustersTechnique::describe() const {
+  // Levels of instances: their prototypes' drawn placed, no triangles of their own.
+  size_t placed = 0;
+  for (const Lod& lod : lods_.lods) placed += lods_.instance_of(lod.object) != kNoInstance;
   return formatted(
-      "%zu levels of detail for %zu objects (%llu triangles), %zu nodes of which %zu clusters "
+      "%zu levels of detail for %zu objects (%llu triangles%s), %zu nodes of which %zu clusters "
       "(%llu triangles), %zu textured boxes (%.1f Mtexel, %.3f m a texel on average; %s), "
       "accuracy tables from %zu directions",
       lods_.lods.size(), lods_.first_lod.empty() ? size_t(0) : lods_.first_lod.size() - 1,
-      (unsigned long long)lods_.triangle_count(), tree_.nodes.size(), clusters_,
+      (unsigned long long)lods_.triangle_count(),
+      placed ? formatted("; %zu levels of instances, drawn from their prototypes'", placed)
+                   .c_str()
+             : "",
+      tree_.nodes.size(), clusters_,
       (unsigned long long)tree_.triangle_count(), boxes_.boxes.size(),
       double(boxes_.texels()) / 1e6, boxes_.mean_texel_m(),
       averages_.empty() ? "no average-colour boxes" : "with average-colour boxes",

@@ -68,7 +68,8 @@ LodSet lay_out_pages(std::vector<PartList>& chains, std::span<const Instance> in
     const bool copy = next < instances.size() && instances[next].object == i;
     const float stretch = copy ? float(largest_stretch(instances[next].linear)) : 1.0f;
     for (const SimplifiedPart& lod : chains[copy ? instances[next].prototype : i])
-      set.lods.push_back({uint32_t(i), 0, uint32_t(lod.mesh.indices.size()), lod.error_m * stretch});
+      set.lods.push_back(
+          {uint32_t(i), 0, uint32_t(lod.mesh.indices.size()), lod.error_m * stretch});
     next += copy;
   }
   set.first_lod.push_back(uint32_t(set.lods.size()));
@@ -214,7 +215,8 @@ Result<LodSet> load_lod_set(const Store& store, const Scene& scene, GeometryLoad
   }
   for (size_t i = 1; i < set.first_lod.size(); ++i) set.first_lod[i] += set.first_lod[i - 1];
   for (const Instance& instance : scene.instances) {
-    const uint32_t ours = set.first_lod[instance.object], theirs = set.first_lod[instance.prototype];
+    const uint32_t ours = set.first_lod[instance.object];
+    const uint32_t theirs = set.first_lod[instance.prototype];
     if (set.first_lod[instance.object + 1] - ours !=
         set.first_lod[instance.prototype + 1] - theirs)
       return inconsistent("an instance's levels not its prototype's");
