@@ -123,9 +123,9 @@ struct Renderer::State {
       const InstanceLayout::Run run = layout.index_run(at, end);
       uint32_t record = white ? white_material : material;
       if (run.instance != kOwn) {
-        FF_ASSERT(white || material == layout.instance_material(run.instance),
+        FF_ASSERT(white || material == instance_materials[run.instance],
                   "range of material %u over instance %u, whose material is %u", material,
-                  run.instance, layout.instance_material(run.instance));
+                  run.instance, instance_materials[run.instance]);
         record = instance_record(run.instance, white);
       }
       const size_t c = chunk_of(chunk_ranges, run.uploaded_at);
@@ -340,9 +340,9 @@ struct Renderer::State {
         if (batches.empty() || batches.back().vao != chunks[c].indexed_vao ||
             batches.back().drawing != drawing)
           batches.push_back({chunks[c].indexed_vao, commands.size(), 0, drawing});
-        FF_ASSERT(own == kOwn || r.material == layout.instance_material(own),
+        FF_ASSERT(own == kOwn || r.material == instance_materials[own],
                   "indexed run of material %u over instance %u, whose material is %u",
-                  r.material, own, own == kOwn ? 0 : layout.instance_material(own));
+                  r.material, own, own == kOwn ? 0 : instance_materials[own]);
         commands.push_back({stop - at, 1, at, -GLint(chunk_ranges[c].first_vertex),
                             own == kOwn ? r.material : instance_record(own, false)});
         batches.back().count++;
@@ -390,14 +390,9 @@ struct Renderer::State {
               white_material);
     size_t n = 1;
     if (r.instance != kNoInstance)
-      while (at + n < ranges.size() && frame_placements.size() + n < frame_records_capacity) {
-        const DrawRange& next = ranges[at + n];
-        if (next.instance == kNoInstance || next.mesh != r.mesh ||
-            next.first_index != r.first_index || next.index_count != r.index_count ||
-            next.material != r.material)
-          break;
+      while (at + n < ranges.size() && frame_placements.size() + n < frame_records_capacity &&
+             same_range_for_instances(r, ranges[at + n]))
         ++n;
-      }
     for (size_t k = at; k < at + n; ++k)
       FF_ASSERT(ranges[k].instance == kNoInstance ||
                     (ranges[k].instance < instance_materials.size() &&

@@ -52,6 +52,14 @@ struct DrawRange {
 };
 static_assert(sizeof(DrawRange) == 20);
 
+// Two ranges that draw the same mesh range for instances: the renderer draws a run of such
+// opaque ranges as one instanced command.
+inline bool same_range_for_instances(const DrawRange& a, const DrawRange& b) {
+  return a.instance != kNoInstance && b.instance != kNoInstance && a.mesh == b.mesh &&
+         a.first_index == b.first_index && a.index_count == b.index_count &&
+         a.material == b.material;
+}
+
 // Vertices of technique meshes (stand-ins: colour-cube faces, textured boxes, billboards):
 // unlit, their colour already shaded when baked; alpha < 1 is blended. Counter-clockwise
 // front faces, back faces culled.

@@ -361,12 +361,16 @@ namespace {
 // named for several instances): the frame's predicted draws count each such group once, as
 // the renderer's draw calls, which the cost model learns from, do.
 size_t instanced_copies(std::span<const DrawRange> ranges) {
-  std::vector<std::tuple<uint32_t, uint32_t, uint32_t, uint32_t>> drawn;
+  std::vector<DrawRange> drawn;
   for (const DrawRange& r : ranges)
-    if (r.instance != kNoInstance)
-      drawn.emplace_back(r.mesh.id, r.first_index, r.index_count, r.material);
-  std::sort(drawn.begin(), drawn.end());
-  return drawn.size() - size_t(std::unique(drawn.begin(), drawn.end()) - drawn.begin());
+    if (r.instance != kNoInstance) drawn.push_back(r);
+  const auto key = [](const DrawRange& r) {
+    return std::tuple(r.mesh.id, r.first_index, r.index_count, r.material);
+  };
+  std::sort(drawn.begin(), drawn.end(),
+            [&](const DrawRange& a, const DrawRange& b) { return key(a) < key(b); });
+  return drawn.size() - size_t(std::unique(drawn.begin(), drawn.end(), same_range_for_instances) -
+                               drawn.begin());
 }
 
 // A set's meshes, once saved in pages: its tables stay.
@@ -698,7 +702,8 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
       if (!cost_.separated() && input.budget.last_frame_ms < target_ms) {
         probe_triangles_ =
             std::isfinite(last_needed_) ? std::max(2.0 * probe_triangles_, last_needed_) : 0.0;
-        const double growth = std::min(2.0, target_ms / std::max(input.budget.last_frame_ms, 1e-3));
+        const double growth =
+            std::min(2.0, target_ms / std::max(input.budget.last_frame_ms, 1e-3));
         sv.max_triangles = std::max(
             {sv.max_triangles, growth * double(input.budget.last_triangles), probe_triangles_});
       } else {
@@ -739,7 +744,8 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   // fading in or out (switch_fades.hpp) are drawn on their share of the pixels.
   float coverage = 1.0f;
   bool complement = false;
-  // An instance's levels are its prototype's, placed (lod_set.hpp): a draw of their own.
+  // An instance's levels are its prototype's, placed (lod_set.hpp): a range of their own,
+  // which the renderer gathers with the other copies of that level into one command.
   auto push = [&](uint32_t first, uint32_t count, uint32_t material, MeshHandle mesh,
                   uint32_t instance = kNoInstance) {
     const bool transparent = scene_->materials[material].transparent();
