@@ -121,6 +121,49 @@ TEST(Simplify, HardEdgesStayHard) {
   }
 }
 
+// A plane whose vertices alternate black and white by column, simplified to a few triangles:
+// each takes the mean colour of what it covers (mid grey; every fine triangle is 1/3 or 2/3
+// grey), not the colour under its centre.
+TEST(Simplify, ASimplifiedTriangleTakesTheMeanColourOfWhatItCovers) {
+  constexpr int kSquares = 24;
+  const uint32_t up = pack_normal({0, 0, 1});
+  MeshPart plane;
+  for (int j = 0; j <= kSquares; ++j)
+    for (int i = 0; i <= kSquares; ++i)
+      plane.vertices.push_back(
+          {{float(i), float(j), 0.0f}, up, i % 2 ? 0xffffffffu : 0xff000000u});
+  for (int j = 0; j < kSquares; ++j)
+    for (int i = 0; i < kSquares; ++i) {
+      const uint32_t a = uint32_t(j * (kSquares + 1) + i), b = a + 1,
+                     c = a + uint32_t(kSquares + 1), d = c + 1;
+      for (const uint32_t v : {a, b, d, a, d, c}) plane.indices.push_back(v);
+    }
+  const SimplifiedPart coarse =
+      simplify_part(plane, {.target_ratio = 0.005, .allow_sloppy = false});
+  ASSERT_GT(coarse.mesh.triangle_count(), 0u);
+  ASSERT_LE(coarse.mesh.triangle_count(), 16u);
+  double weighted = 0, area = 0;
+  for (size_t t = 0; t < coarse.mesh.indices.size(); t += 3) {
+    const Vertex& a = coarse.mesh.vertices[coarse.mesh.indices[t]];
+    const glm::vec3 b = coarse.mesh.vertices[coarse.mesh.indices[t + 1]].position,
+                    c = coarse.mesh.vertices[coarse.mesh.indices[t + 2]].position;
+    const double size = 0.5 * glm::length(glm::cross(b - a.position, c - a.position));
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(coarse.mesh.vertices[coarse.mesh.indices[t + size_t(k)]].color, a.color);
+    const int red = int(a.color & 0xffu);
+    EXPECT_EQ(red, int(a.color >> 8 & 0xffu));
+    EXPECT_EQ(a.color >> 24, 0xffu);
+    // 64 samples of 85 or 170, a fair coin: within three of their standard deviations.
+    if (size >= 16.0) {
+      EXPECT_NEAR(red, 127.5, 16.0) << "a triangle of " << size << " squares";
+    }
+    weighted += size * red;
+    area += size;
+  }
+  EXPECT_NEAR(area, double(kSquares * kSquares), 1e-3);
+  EXPECT_NEAR(weighted / area, 127.5, 8.0);
+}
+
 // Many separate cubes cannot lose triangles without losing whole cubes: the sloppy simplifier
 // takes over, and its error says how far the surfaces moved. An error limit is kept.
 TEST(Simplify, SeparatePartsFallBackToTheSloppySimplifier) {

@@ -326,44 +326,98 @@ float surface_distance(const MeshPart& from, const MeshPart& to) {
   return surface_distance(from, to, to_tree);
 }
 
-// Each triangle of `mesh` the colour of `from`'s surface nearest its centre (its triangle's
-// corners averaged). A simplified triangle spans what were several (a street and a lawn, a
-// window and its wall), and its corners' colours interpolated across it smear them into one
-// another; meshoptimizer 0.18 simplifies by position alone.
+namespace {
+
+// Each triangle of `mesh` the mean colour of `from`'s surface beneath it: a simplified
+// triangle spans what were several (a street and a lawn, windows and their wall), and its
+// corners' colours interpolated across it smear them into one another (meshoptimizer 0.18
+// simplifies by position alone). The mean is what a flat colour's squared error is least
+// with. It is sampled at points spread evenly over the triangle, one per sub-triangle of a
+// split into k^2 that brings them to about `from`'s mean triangle size (at most
+// kMostColourSplits^2 points); each point takes the colour of the nearest of `from`'s
+// triangles (its corners averaged). One point, the centre, where k is 1; past that each point
+// lies at a random place in its sub-triangle, so that a regular pattern (rows of windows) is
+// not sampled in step with itself.
+constexpr int kMostColourSplits = 8;
+
 void take_colours_from(const MeshPart& from, const TriangleTree& tree, MeshPart& mesh) {
   if (mesh.indices.empty() || from.indices.empty()) return;
+  auto area_of = [](const MeshPart& m, size_t t) {
+    const glm::vec3 a = m.vertices[m.indices[t]].position;
+    return 0.5 * double(glm::length(glm::cross(m.vertices[m.indices[t + 1]].position - a,
+                                               m.vertices[m.indices[t + 2]].position - a)));
+  };
+  double from_area = 0;
+  for (size_t t = 0; t + 2 < from.indices.size(); t += 3) from_area += area_of(from, t);
+  const double mean_area = from_area / double(from.indices.size() / 3);
   MeshPart out;
   out.material = mesh.material;
   std::unordered_map<uint64_t, uint32_t> made;  // (vertex, colour) -> its copy
   uint32_t hint = 0;
-  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-    const glm::vec3 centre =
-        (mesh.vertices[mesh.indices[t]].position + mesh.vertices[mesh.indices[t + 1]].position +
-         mesh.vertices[mesh.indices[t + 2]].position) /
-        3.0f;
-    hint = tree.nearest(centre, hint).triangle;
-    uint32_t sum[4] = {0, 0, 0, 0};
+  uint64_t sum[4];
+  uint32_t samples = 0;
+  auto sample = [&](const glm::vec3& p) {
+    hint = tree.nearest(p, hint).triangle;
     for (int k = 0; k < 3; ++k) {
       const uint32_t c = from.vertices[from.indices[size_t(hint) * 3 + size_t(k)]].color;
       for (int ch = 0; ch < 4; ++ch) sum[ch] += (c >> (8 * ch)) & 0xffu;
     }
+    samples += 3;
+  };
+  uint32_t random = 0x9e3779b9u;  // a fixed sequence: bakes repeat
+  auto uniform = [&] {
+    random ^= random << 13, random ^= random >> 17, random ^= random << 5;
+    return float(random >> 8) * (1.0f / 16777216.0f);
+  };
+  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const glm::vec3 a = mesh.vertices[mesh.indices[t]].position,
+                    b = mesh.vertices[mesh.indices[t + 1]].position,
+                    c = mesh.vertices[mesh.indices[t + 2]].position;
+    const double area = area_of(mesh, t);
+    const int k = mean_area > 0 ? std::clamp(int(std::lround(std::sqrt(area / mean_area))), 1,
+                                             kMostColourSplits)
+                                : 1;
+    sum[0] = sum[1] = sum[2] = sum[3] = 0;
+    samples = 0;
+    if (k == 1) {
+      sample((a + b + c) / 3.0f);
+    } else {
+      // Sub-triangle (i, j) upright: corners at grid points (i, j), (i+1, j), (i, j+1); and,
+      // where i + j < k - 1, turned: (i+1, j+1), (i, j+1), (i+1, j). Grid point (i, j) is
+      // a + (b - a) i/k + (c - a) j/k.
+      const glm::vec3 u = (b - a) / float(k), v = (c - a) / float(k);
+      for (int j = 0; j < k; ++j)
+        for (int i = 0; i + j < k; ++i) {
+          float r = uniform(), s = uniform();
+          if (r + s > 1.0f) r = 1.0f - r, s = 1.0f - s;
+          sample(a + u * (float(i) + r) + v * (float(j) + s));
+          if (i + j < k - 1) {
+            r = uniform(), s = uniform();
+            if (r + s > 1.0f) r = 1.0f - r, s = 1.0f - s;
+            sample(a + u * (float(i + 1) - r) + v * (float(j + 1) - s));
+          }
+        }
+    }
     uint32_t colour = 0;
-    for (int ch = 0; ch < 4; ++ch) colour |= ((sum[ch] + 1) / 3) << (8 * ch);
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t v = mesh.indices[t + size_t(k)];
+    for (int ch = 0; ch < 4; ++ch)
+      colour |= uint32_t((sum[ch] + samples / 2) / samples) << (8 * ch);
+    for (int n = 0; n < 3; ++n) {
+      const uint32_t vertex = mesh.indices[t + size_t(n)];
       const auto [at, fresh] =
-          made.try_emplace(uint64_t(v) << 32 | colour, uint32_t(out.vertices.size()));
+          made.try_emplace(uint64_t(vertex) << 32 | colour, uint32_t(out.vertices.size()));
       if (fresh) {
-        Vertex copy = mesh.vertices[v];
+        Vertex copy = mesh.vertices[vertex];
         copy.color = colour;
         out.vertices.push_back(copy);
-        if (!mesh.uvs.empty()) out.uvs.push_back(mesh.uvs[v]);
+        if (!mesh.uvs.empty()) out.uvs.push_back(mesh.uvs[vertex]);
       }
       out.indices.push_back(at->second);
     }
   }
   mesh = std::move(out);
 }
+
+}  // namespace
 
 float farthest_distance(const std::vector<glm::vec3>& points, const MeshPart& mesh) {
   if (points.empty()) return 0.0f;
