@@ -5,6 +5,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "farfield/core/four_ary_heap.hpp"
+
 namespace farfield {
 
 namespace {
@@ -392,8 +394,7 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
   };
   auto push = [&](uint32_t id) {
     if (!refinable(items_[id])) return;
-    heap_.push_back(entry(id));
-    std::push_heap(heap_.begin(), heap_.end());
+    four_ary_heap_push(heap_, entry(id));
   };
   // An item refined that still comes first (its key and number above the heap's top, as the
   // heap orders them) is taken again at once instead of pushed and popped: the same order
@@ -406,8 +407,7 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
       again = id;
       return;
     }
-    heap_.push_back(e);
-    std::push_heap(heap_.begin(), heap_.end());
+    four_ary_heap_push(heap_, e);
   };
   double cost = open(0, nullptr, true, items_);
   for (uint32_t id = 0; id < items_.size(); ++id) push(id);
@@ -415,9 +415,7 @@ void ClusterSelection::under_budget(std::vector<Choice>& out, SelectionStats& st
     uint32_t id = again;
     again = kNone;
     if (id == kNone) {
-      std::pop_heap(heap_.begin(), heap_.end());
-      id = uint32_t(heap_.back());
-      heap_.pop_back();
+      id = uint32_t(four_ary_heap_pop(heap_));
     }
     Item& item = items_[id];
     if (item.slot == kNone) {

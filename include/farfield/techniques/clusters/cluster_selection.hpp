@@ -221,8 +221,8 @@ class ClusterSelection {
   std::vector<Seen> node_seen_, object_seen_;  // the paper traversal's first pass
   std::vector<Item> items_, opened_;
   // Key (projected error times benefit, never negative) in the high half, item in the low: the
-  // order of (key, item) pairs as one integer compare, which the heap's sifting makes without
-  // branches (the pairs' compare of floats then items took a third of the budget pass).
+  // order of (key, item) pairs as one integer compare (the pairs' compare of floats then items
+  // took a third of the budget pass); a heap of four children a node (four_ary_heap.hpp).
   std::vector<uint64_t> heap_;
   std::vector<Pending> stack_;
   std::vector<uint8_t> state_, last_state_;       // State per node, this frame and the last
