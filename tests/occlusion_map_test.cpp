@@ -127,6 +127,93 @@ TEST(OcclusionMap, WhatItHidesIsBehindAnOccluderAlongEverySightLine) {
   EXPECT_GT(checked, 1000);
 }
 
+// The map marks a texel exactly where one face of an occluder covers it wholly, with the
+// face's farthest depth over it: checked against rays through every texel corner (the face a
+// ray enters a box by, and its view depth there), up to rounding at the faces' edges.
+TEST(OcclusionMap, MarksTheTexelsAFaceCoversWhollyAtItsFarthestDepth) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  size_t agreed = 0, disagreed = 0, covered = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    View view = test_view();
+    view.pose.yaw_deg = 360.0f * unit(rng);
+    view.pose.pitch_deg = -30.0f + 60.0f * unit(rng);
+    const int texel_px = 2 + trial % 4;
+    OcclusionMap map;
+    map.reset(view, texel_px);
+    std::vector<Bounds3> occluders;
+    for (int k = 0; k < 6; ++k) {
+      const glm::vec3 c(-40.0f + 80.0f * unit(rng), -10.0f + 20.0f * unit(rng),
+                        -40.0f + 80.0f * unit(rng));
+      const glm::vec3 s(1.0f + 15.0f * unit(rng), 1.0f + 15.0f * unit(rng),
+                        1.0f + 15.0f * unit(rng));
+      const Bounds3 b = box_at(c, s);
+      if (b.contains(view.pose.position)) continue;
+      occluders.push_back(b);
+      map.add_box(b);
+    }
+    const glm::mat4 to_view = view.view_matrix(), to_world = glm::inverse(to_view);
+    const glm::mat4 projection = view.projection_matrix();
+    const float texels_x = float(view.width) / float(texel_px),
+                texels_y = float(view.height) / float(texel_px);
+    const glm::vec3 eye = view.pose.position;
+    // Per lattice corner and occluder: the face (axis * 2 + side) its ray enters by and the
+    // view depth there; -1 where it misses.
+    const int cols = map.width() + 1, rows = map.height() + 1;
+    std::vector<int> face(size_t(cols) * rows * occluders.size(), -1);
+    std::vector<float> depth(face.size(), 0.0f);
+    for (int y = 0; y < rows; ++y)
+      for (int x = 0; x < cols; ++x) {
+        const glm::vec3 ray_view((2.0f * float(x) / texels_x - 1.0f) / projection[0][0],
+                                 (2.0f * float(y) / texels_y - 1.0f) / projection[1][1], -1.0f);
+        const glm::vec3 dir = glm::vec3(to_world * glm::vec4(ray_view, 0.0f));
+        for (size_t o = 0; o < occluders.size(); ++o) {
+          const float t = enters_at(eye, dir, occluders[o]);
+          if (!std::isfinite(t) || t <= view.near_m) continue;
+          const glm::vec3 p = eye + t * dir;
+          int best = -1;
+          float nearest = INFINITY;
+          for (int a = 0; a < 3; ++a)
+            for (int side = 0; side < 2; ++side) {
+              const float d = std::abs(p[a] - (side ? occluders[o].max[a] : occluders[o].min[a]));
+              if (d < nearest) nearest = d, best = a * 2 + side;
+            }
+          const size_t at = (size_t(y) * cols + x) * occluders.size() + o;
+          face[at] = best;
+          depth[at] = -(to_view * glm::vec4(p, 1.0f)).z;
+        }
+      }
+    for (int y = 0; y < map.height(); ++y)
+      for (int x = 0; x < map.width(); ++x) {
+        float expected = INFINITY;
+        for (size_t o = 0; o < occluders.size(); ++o) {
+          const size_t corners[4] = {(size_t(y) * cols + x) * occluders.size() + o,
+                                     (size_t(y) * cols + x + 1) * occluders.size() + o,
+                                     (size_t(y + 1) * cols + x) * occluders.size() + o,
+                                     (size_t(y + 1) * cols + x + 1) * occluders.size() + o};
+          const int f = face[corners[0]];
+          if (f < 0) continue;
+          float farthest = 0.0f;
+          bool whole = true;
+          for (size_t c : corners) {
+            whole = whole && face[c] == f;
+            farthest = std::max(farthest, depth[c]);
+          }
+          if (whole) expected = std::min(expected, farthest);
+        }
+        const float got = map.depth_at(x, y);
+        covered += std::isfinite(expected) ? 1 : 0;
+        const bool same = std::isinf(expected)
+                              ? std::isinf(got)
+                              : std::abs(got - expected) <= 1e-3f * expected;
+        (same ? agreed : disagreed) += 1;
+      }
+  }
+  EXPECT_GT(covered, 4000u);  // the test tests something
+  // Rounding decides texels with a corner on a face's edge: a few in a thousand at most.
+  EXPECT_LE(disagreed, agreed / 500) << disagreed << " of " << agreed + disagreed << ", " << covered << " covered";
+}
+
 // At one pixel a texel the map samples pixel centres, and objects' own triangles occlude: a
 // box called hidden has, along the ray through every pixel centre that meets it, an occluder
 // triangle met first (both sides of each cuboid drawn: the test's rays meet any face).

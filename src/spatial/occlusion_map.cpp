@@ -181,39 +181,50 @@ void OcclusionMap::fill_polygon(const glm::vec3* corners, int corner_count) {
 
   glm::vec3 edges[8];
   edge_lines(poly, count, edges);
-
-  const int cols = i1 - i0 + 1, rows = j1 - j0 + 1;
-  corner_depth_.resize(size_t(cols) * size_t(rows));
-  for (int j = 0; j < rows; ++j) {
-    const float y = float(j0 + j), b = (y - 0.5f * texels_y_) / scale_y_;
-    for (int i = 0; i < cols; ++i) {
-      const float x = float(i0 + i);
-      bool in = true;
-      for (int k = 0; k < count && in; ++k)
-        in = edges[k].x * x + edges[k].y * y + edges[k].z >= kEdgeMargin;
-      float depth = -1.0f;  // outside
-      if (in) {
-        // The view ray through the point, (a, b, -1) per unit of depth, meets the plane at
-        // depth c / (n . r).
-        const float a = (x - 0.5f * texels_x_) / scale_x_;
-        const float nr = n.x * a + n.y * b - n.z;
-        depth = nr < 0.0f ? c / nr : -1.0f;
-      }
-      corner_depth_[size_t(j) * size_t(cols) + size_t(i)] = depth;
+  const auto corner_in = [&](float x, float y) {
+    for (int k = 0; k < count; ++k)
+      if (!(edges[k].x * x + edges[k].y * y + edges[k].z >= kEdgeMargin)) return false;
+    return true;
+  };
+  const auto covered = [&](int x, int y) {
+    const float x0 = float(x), y0 = float(y);
+    return corner_in(x0, y0) && corner_in(x0 + 1.0f, y0) && corner_in(x0, y0 + 1.0f) &&
+           corner_in(x0 + 1.0f, y0 + 1.0f);
+  };
+  // The plane's farthest point over a texel is the corner where n . r is largest (depth is
+  // c / (n . r), both negative): the same corner of every texel.
+  const int far_x = n.x > 0.0f ? 1 : 0, far_y = n.y > 0.0f ? 1 : 0;
+  // Texels x in [i0, i1 - 1], y in [j0, j1 - 1] have their corners in the lattice box.
+  for (int y = j0; y < j1; ++y) {
+    // The span of texels whose four corners lie inside every edge: for each edge the corner
+    // nearest to it decides, so the span follows from the edges alone, widened by a texel on
+    // each side and narrowed by the exact corner test (the polygon is convex: a row's
+    // covered texels are one run).
+    float left = float(i0), right = float(i1 - 1);
+    for (int k = 0; k < count; ++k) {
+      const float ey = float(y) + (edges[k].y > 0.0f ? 0.0f : 1.0f);
+      const float rest = kEdgeMargin - edges[k].y * ey - edges[k].z;  // ex * x >= rest
+      if (edges[k].x > 0.0f)
+        left = std::max(left, rest / edges[k].x);
+      else if (edges[k].x < 0.0f)
+        right = std::min(right, rest / edges[k].x - 1.0f);
+      else if (rest > 0.0f)
+        right = -1.0f;
     }
-  }
-  for (int j = 0; j + 1 < rows; ++j) {
-    const int y = j0 + j;
-    if (y >= height_) break;
-    const float* below = &corner_depth_[size_t(j) * size_t(cols)];
-    const float* above = below + cols;
-    for (int i = 0; i + 1 < cols; ++i) {
-      const int x = i0 + i;
-      if (x >= width_) break;
-      const float d0 = below[i], d1 = below[i + 1], d2 = above[i], d3 = above[i + 1];
-      if (d0 < 0.0f || d1 < 0.0f || d2 < 0.0f || d3 < 0.0f) continue;
-      float& mark = depth_[size_t(y) * size_t(width_) + size_t(x)];
-      mark = std::min(mark, std::max(std::max(d0, d1), std::max(d2, d3)));
+    if (!(left <= right + 2.0f)) continue;  // also NaN
+    int from = std::max(i0, int(std::ceil(left)) - 1);
+    int to = std::min(i1 - 1, int(std::floor(right)) + 1);
+    while (from <= to && !covered(from, y)) ++from;
+    while (to >= from && !covered(to, y)) --to;
+    if (to < from) continue;
+    const float b = (float(y + far_y) - 0.5f * texels_y_) / scale_y_;
+    float* row = &depth_[size_t(y) * size_t(width_)];
+    for (int x = from; x <= to; ++x) {
+      // The view ray through the corner, (a, b, -1) per unit of depth, meets the plane at
+      // depth c / (n . r).
+      const float a = (float(x + far_x) - 0.5f * texels_x_) / scale_x_;
+      const float nr = n.x * a + n.y * b - n.z;
+      if (nr < 0.0f) row[x] = std::min(row[x], c / nr);
     }
   }
 }

@@ -68,7 +68,6 @@ class OcclusionMap {
   int width_ = 0, height_ = 0;
   float texels_x_ = 0, texels_y_ = 0;    // the screen's extent in texels (fractional)
   std::vector<float> depth_;             // row 0 at the bottom, as GL's window coordinates
-  std::vector<float> corner_depth_;      // scratch: per lattice point of a face's rectangle
   std::vector<glm::vec3> view_points_;   // scratch: an occluder mesh's vertices in view space
   std::vector<glm::vec2> texel_points_;  // and in texels (NaN behind the near plane)
   uint32_t occluders_ = 0;
