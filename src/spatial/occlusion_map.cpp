@@ -291,7 +291,12 @@ bool OcclusionMap::hidden(const Bounds3& box) const {
     const float depth = -p.z;
     if (!(depth >= near_)) return false;  // crosses the near plane: cannot tell
     nearest = std::min(nearest, depth);
-    const glm::vec2 t = to_texels(p);
+    // to_texels with one division instead of two: a texel's edge moved by a rounding error
+    // changes no pixel centre reached (texel_px >= 2 here; texel_px 1 is tested through the
+    // pyramid at half-pixel margins).
+    const float inverse = 1.0f / depth;
+    const glm::vec2 t(0.5f * texels_x_ + scale_x_ * p.x * inverse,
+                      0.5f * texels_y_ + scale_y_ * p.y * inverse);
     lo = glm::min(lo, t);
     hi = glm::max(hi, t);
   }

@@ -168,12 +168,13 @@ std::vector<glm::vec3> sphere_directions(int count) {
 uint32_t AccuracyTable::nearest(const glm::vec3& towards_viewer) const {
   uint32_t best = 0;
   float best_dot = -INFINITY;
+  // Without a branch: which direction wins is unpredictable, and a mispredicted branch costs
+  // more than the selects (a node's or object's direction is asked for wherever it is seen).
   for (uint32_t k = 0; k < directions.size(); ++k) {
     const float d = glm::dot(directions[k], towards_viewer);
-    if (d > best_dot) {
-      best_dot = d;
-      best = k;
-    }
+    const bool better = d > best_dot;
+    best_dot = better ? d : best_dot;
+    best = better ? k : best;
   }
   return best;
 }
