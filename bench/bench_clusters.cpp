@@ -169,7 +169,7 @@ void select_baked(benchmark::State& state, ClusterTraversal traversal, bool cold
     sv.eye = view.pose.position;
     sv.pixel = 2.0f * std::tan(glm::radians(view.hfov_deg) * 0.5f) / float(view.width);
     sv.max_triangles = budget ? std::atof(budget) : 150000.0;
-    sv.hysteresis = 8;
+    sv.hysteresis = 12;  // the default (clusters.hysteresis)
     sv.occlusion = &occlusion;
     sv.accuracy = b.accuracy.empty() ? nullptr : &b.accuracy;
     state.ResumeTiming();

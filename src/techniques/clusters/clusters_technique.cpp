@@ -229,7 +229,7 @@ constexpr SettingSpec kSettings[] = {
      .max = 0.5},
     {.key = "hysteresis",
      .type = SettingType::integer,
-     .default_value = "8",
+     .default_value = "12",
      .help = "under a budget, frames a cluster waits before it is refined into its children "
              "(paper 001, Sec. 4.6; which clusters wait: clusters.hysteresis_rule), with the "
              "scene in memory once the cost model tells its parts apart; 0: none",

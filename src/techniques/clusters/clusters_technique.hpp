@@ -48,7 +48,7 @@ struct ClustersOptions {
   float error_px = 1.0f;  // the largest projected geometric error, pixels
   float average_px = 1.0f;  // boxes of subjects smaller on screen: average-colour boxes
   ClusterTraversal traversal = ClusterTraversal::refined;
-  int hysteresis = 8;  // frames (paper 001, Sec. 4.6)
+  int hysteresis = 12;  // frames (paper 001, Sec. 4.6)
   double over_share = 0.03;  // under a budget, frames let run over 1.1x it (budget_target.hpp)
   int pseudo_px = 0;   // > 0: the boxes drawn as pseudo-texture maps of at most this many texels
   int blend_frames = 0;  // a switch cross-faded over this many frames (Sec. 5.4); 0: at once
