@@ -49,9 +49,13 @@ const camera = new THREE.PerspectiveCamera(
 const vertexShader = `
 in vec3 position; in vec3 normal; in vec4 color; in vec2 uv;
 uniform mat4 modelMatrix, modelViewMatrix, projectionMatrix;
-out vec3 v_normal; out vec4 v_color; out vec2 v_uv;
+uniform vec3 light_dir[2]; uniform float ambient, weight;
+out vec2 v_light; out vec4 v_color; out vec2 v_uv;
 void main() {
-  v_normal = mat3(modelMatrix) * normal;
+  // At the vertices, on the front and on the back, as farfield's renderer (gpu/shaders.cpp).
+  vec3 n = normalize(mat3(modelMatrix) * normal);
+  vec2 d = vec2(dot(n, light_dir[0]), dot(n, light_dir[1]));
+  v_light = ambient + weight * vec2(max(d.x, 0.0) + max(d.y, 0.0), max(-d.x, 0.0) + max(-d.y, 0.0));
   v_color = color;
   v_uv = uv;
   gl_Position = projectionMatrix * modelViewMatrix * vec4(position, 1.0);
@@ -59,15 +63,13 @@ void main() {
 const fragmentShader = `
 precision highp float;
 uniform vec4 base; uniform sampler2D map; uniform bool textured; uniform float cutoff;
-uniform vec3 light_dir[2]; uniform float ambient, weight;
-in vec3 v_normal; in vec4 v_color; in vec2 v_uv;
+in vec2 v_light; in vec4 v_color; in vec2 v_uv;
 out vec4 frag;
 void main() {
   vec4 c = base * v_color;
   if (textured) c *= texture(map, v_uv);
   if (c.a < cutoff) discard;
-  vec3 n = normalize(gl_FrontFacing ? v_normal : -v_normal);
-  float light = ambient + weight * (max(dot(n, light_dir[0]), 0.0) + max(dot(n, light_dir[1]), 0.0));
+  float light = gl_FrontFacing ? v_light.x : v_light.y;
   frag = vec4(min(c.rgb * light, vec3(1.0)), c.a);
 }`;
 

@@ -49,6 +49,22 @@ vec3 placed_normal(vec3 n) { return n; }
 #endif
 )";
 
+// Lambert from two directional lights plus ambient (paper 000, Sec. 5.3; gpu/lighting.hpp),
+// at the vertices (Gouraud): the light on a face's front and on its back, for the fragment
+// shader to pick by the side it sees (back faces are seen only through transparent surfaces,
+// and shaded as seen from the eye's side). A flat face's light is the same at its corners,
+// so only curved surfaces change against lighting every pixel, which cost llvmpipe a tenth
+// of a frame (docs/architecture.md).
+constexpr const char* kLightFunctions = R"(layout(location = 1) uniform vec3 light_dir[2];
+layout(location = 3) uniform float light_weight;
+layout(location = 4) uniform float ambient;
+vec2 lights(vec3 n) {
+  vec2 d = vec2(dot(n, light_dir[0]), dot(n, light_dir[1]));
+  return ambient + light_weight * vec2(max(d.x, 0.0) + max(d.y, 0.0),
+                                       max(-d.x, 0.0) + max(-d.y, 0.0));
+}
+)";
+
 // The material colour is an instanced attribute (divisor 1) read at the draw's baseInstance,
 // so every command of a multi-draw picks its material without gl_DrawID.
 constexpr const char* kVertexShader = R"(#version 450 core
@@ -58,30 +74,24 @@ layout(location = 2) in vec4 color;
 layout(location = 3) in vec4 material_color;
 layout(location = 0) uniform mat4 view_projection;
 invariant gl_Position;  // as the visibility pass's: the same depths, pixel for pixel
-out vec3 v_normal;
 out vec4 v_color;
+out vec2 v_light;  // the light on the front, and on the back
 void main() {
   gl_Position = view_projection * vec4(placed(position), 1.0);
-  v_normal = placed_normal(normal);
+  v_light = lights(normalize(placed_normal(normal)));
   v_color = vec4(color.rgb * material_color.rgb, material_color.a);
 }
 )";
 
-// Lambert from two directional lights plus ambient (paper 000, Sec. 5.3). Back faces, seen
-// only through transparent surfaces, are shaded as seen from the eye's side.
+// The light from the vertex shader (kLightFunctions) on the side seen.
 constexpr const char* kFragmentShader = R"(#version 450 core
-layout(location = 1) uniform vec3 light_dir[2];
-layout(location = 3) uniform float light_weight;
-layout(location = 4) uniform float ambient;
 layout(location = 7) uniform vec4 tint;  // DrawList::tints: a colour mixed in, alpha its share
-in vec3 v_normal;
 in vec4 v_color;
+in vec2 v_light;
 layout(location = 0) out vec4 frag_color;
 void main() {
   if (faded_out()) discard;
-  vec3 n = normalize(gl_FrontFacing ? v_normal : -v_normal);
-  float light = ambient + light_weight * (max(dot(n, light_dir[0]), 0.0) +
-                                          max(dot(n, light_dir[1]), 0.0));
+  float light = gl_FrontFacing ? v_light.x : v_light.y;
   vec3 base = mix(v_color.rgb, tint.rgb, tint.a);
   frag_color = vec4(min(base * light, vec3(1.0)), v_color.a);
 }
@@ -104,14 +114,14 @@ layout(location = 5) in ivec3 texturing;
 layout(location = 6) in float cutoff;
 layout(location = 0) uniform mat4 view_projection;
 invariant gl_Position;  // as the visibility pass's
-out vec3 v_normal;
 out vec4 v_color;
+out vec2 v_light;  // the light on the front, and on the back
 out vec2 v_texcoord;
 flat out ivec3 v_texturing;
 flat out float v_cutoff;
 void main() {
   gl_Position = view_projection * vec4(placed(position), 1.0);
-  v_normal = placed_normal(normal);
+  v_light = lights(normalize(placed_normal(normal)));
   v_color = vec4(color.rgb * material_color.rgb, material_color.a);
   v_texcoord = texcoord;
   v_texturing = texturing;
@@ -120,13 +130,10 @@ void main() {
 )";
 
 constexpr const char* kTexturedSceneFragmentShader = R"(#version 450 core
-layout(location = 1) uniform vec3 light_dir[2];
-layout(location = 3) uniform float light_weight;
-layout(location = 4) uniform float ambient;
 layout(binding = 0) uniform sampler2DArray textures;  // the batch's array
 layout(location = 7) uniform vec4 tint;
-in vec3 v_normal;
 in vec4 v_color;
+in vec2 v_light;
 in vec2 v_texcoord;
 flat in ivec3 v_texturing;  // array, layer, wrap_u | wrap_v << 2 | alpha << 4
 flat in float v_cutoff;
@@ -153,9 +160,7 @@ void main() {
       c.a *= t.a;
     }
   }
-  vec3 n = normalize(gl_FrontFacing ? v_normal : -v_normal);
-  float light = ambient + light_weight * (max(dot(n, light_dir[0]), 0.0) +
-                                          max(dot(n, light_dir[1]), 0.0));
+  float light = gl_FrontFacing ? v_light.x : v_light.y;
   c.rgb = mix(c.rgb, tint.rgb, tint.a);
   frag_color = vec4(min(c.rgb * light, vec3(1.0)), c.a);
 }
@@ -282,11 +287,12 @@ std::string with_fade(const char* source, bool faded) {
   return text;
 }
 
-// A scene vertex shader with kPlacementFunctions after its #version line, PLACED defined or not.
+// A scene vertex shader with kPlacementFunctions (PLACED defined or not) and kLightFunctions
+// after its #version line.
 std::string with_placement(const char* source, bool placed) {
   std::string text = source;
-  text.insert(text.find('\n') + 1,
-              std::string(placed ? "#define PLACED\n" : "") + kPlacementFunctions);
+  text.insert(text.find('\n') + 1, std::string(placed ? "#define PLACED\n" : "") +
+                                       kPlacementFunctions + kLightFunctions);
   return text;
 }
 

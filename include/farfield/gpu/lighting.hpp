@@ -34,7 +34,8 @@ inline std::array<glm::vec3, 2> light_directions(float heading_deg = kLightHeadi
   return lights;
 }
 
-// The fragment shader's colour for a front face with unit normal `n` and surface colour `c`.
+// The renderer's colour for a front face with unit normal `n` and surface colour `c` (its
+// vertex shader lights each vertex so, gpu/shaders.cpp: on a flat face, every pixel).
 inline glm::vec3 shade(const glm::vec3& n, const glm::vec3& c) {
   static const std::array<glm::vec3, 2> lights = light_directions();
   const float light = kAmbient + kLightWeight * (std::max(glm::dot(n, lights[0]), 0.0f) +
