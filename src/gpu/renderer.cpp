@@ -173,12 +173,15 @@ struct Renderer::State {
   GLuint textured_scene_program = 0;
   // DrawList::faded: the same programs keeping part of the pixels (kFadeUniform).
   GLuint faded_program = 0, faded_textured_program = 0;
+  // Untextured, single-sided opaque batches: the colour lit and tinted at the vertices.
+  GLuint one_sided_program = 0;
   std::vector<SceneBatch> faded_batches;
   std::vector<DrawRange> fade_group;
   std::vector<SceneBatch> fade_group_batches;
   // Every scene program (those not built are 0).
-  std::array<GLuint, 4> scene_programs() const {
-    return {program, textured_scene_program, faded_program, faded_textured_program};
+  std::array<GLuint, 5> scene_programs() const {
+    return {program, textured_scene_program, faded_program, faded_textured_program,
+            one_sided_program};
   }
   GpuResources resources;
   GLuint proxy_program = 0, textured_program = 0;
@@ -242,6 +245,7 @@ struct Renderer::State {
     glDeleteProgram(textured_scene_program);
     glDeleteProgram(faded_program);
     glDeleteProgram(faded_textured_program);
+    glDeleteProgram(one_sided_program);
     glDeleteProgram(proxy_program);
     glDeleteProgram(textured_program);
     glDeleteProgram(quad_program);
@@ -475,6 +479,9 @@ struct Renderer::State {
                           const std::vector<DrawList::Tint>& tints, bool faded = false) {
     const GLuint plain = faded ? faded_program : program;
     const GLuint textured = faded ? faded_textured_program : textured_scene_program;
+    // Untextured single-sided batches outside the transparent pass see only fronts: the
+    // one-sided program lights them at the vertices whole (plain, where none is built).
+    const GLuint one_sided = faded || culling_off || !one_sided_program ? plain : one_sided_program;
     glUseProgram(plain);
     glm::vec4 current(0.0f);
     glm::vec2 fade(-1.0f);
@@ -483,7 +490,7 @@ struct Renderer::State {
       for (const DrawList::Tint& t : tints)
         if (t.mesh == b.mesh) tint = t.colour;
       if (tint != current) {
-        for (GLuint p : {plain, textured})
+        for (GLuint p : {plain, textured, one_sided})
           if (p) glProgramUniform4fv(p, kTintUniform, 1, &tint.x);
         current = tint;
       }
@@ -498,17 +505,19 @@ struct Renderer::State {
         glUseProgram(textured);
         textures->bind(array);
       }
+      const bool one = array < 0 && !b.drawing.double_sided && one_sided != plain;
+      if (one) glUseProgram(one_sided);
       if (b.drawing.double_sided) glDisable(GL_CULL_FACE);
       glMultiDrawElementsIndirect(
           GL_TRIANGLES, GL_UNSIGNED_INT,
           reinterpret_cast<const void*>(b.first_command * sizeof(DrawCommand)), GLsizei(b.count),
           0);
       if (b.drawing.double_sided && !culling_off) glEnable(GL_CULL_FACE);
-      if (array >= 0) glUseProgram(plain);
+      if (array >= 0 || one) glUseProgram(plain);
     }
     if (current != glm::vec4(0.0f)) {
       const glm::vec4 none(0.0f);
-      for (GLuint p : {plain, textured})
+      for (GLuint p : {plain, textured, one_sided})
         if (p) glProgramUniform4fv(p, kTintUniform, 1, &none.x);
     }
     glUseProgram(program);
@@ -930,6 +939,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Scene& scene, uint64_t 
   const bool placements = s.placement_buffer != 0;
   s.program = build_scene_program(false, placements);
   s.faded_program = build_scene_program(true, placements);
+  s.one_sided_program = build_scene_program(false, placements, true);
   if (textured) {
     s.textured_scene_program = build_textured_scene_program(false, placements);
     s.faded_textured_program = build_textured_scene_program(true, placements);

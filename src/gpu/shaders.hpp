@@ -35,7 +35,7 @@ enum : GLint {
 // `faded`: the variant of DrawList::faded, kFadeUniform choosing the pixels drawn.
 // `placed`: the variant of a scene drawn instanced, reading each command's placement
 // (kPlacementAttrib, kNormalPlacementAttrib); every scene program of such a scene is placed.
-GLuint build_scene_program(bool faded = false, bool placed = false);
+GLuint build_scene_program(bool faded = false, bool placed = false, bool one_sided = false);
 // The same for the textured materials of a scene with textures: texture coordinate (location
 // 4), the material's texturing (5, 6), the batch's texture array on unit 0.
 GLuint build_textured_scene_program(bool faded = false, bool placed = false);
