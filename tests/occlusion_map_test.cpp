@@ -47,6 +47,24 @@ float enters_at(const glm::vec3& origin, const glm::vec3& dir, const Bounds3& bo
   return t0 <= t1 ? t0 : INFINITY;
 }
 
+// `count` random cuboids around the origin (those holding the eye left out), added to `map`.
+std::vector<Bounds3> add_random_occluders(std::mt19937& rng, int count, const View& view,
+                                          OcclusionMap& map) {
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<Bounds3> occluders;
+  for (int k = 0; k < count; ++k) {
+    const glm::vec3 c(-40.0f + 80.0f * unit(rng), -10.0f + 20.0f * unit(rng),
+                      -40.0f + 80.0f * unit(rng));
+    const glm::vec3 s(1.0f + 15.0f * unit(rng), 1.0f + 15.0f * unit(rng),
+                      1.0f + 15.0f * unit(rng));
+    const Bounds3 b = box_at(c, s);
+    if (b.contains(view.pose.position)) continue;
+    occluders.push_back(b);
+    map.add_box(b);
+  }
+  return occluders;
+}
+
 TEST(OcclusionMap, AWallHidesWhatIsBehindItOnly) {
   const View view = test_view();
   OcclusionMap map;
@@ -91,17 +109,7 @@ TEST(OcclusionMap, WhatItHidesIsBehindAnOccluderAlongEverySightLine) {
     view.pose.pitch_deg = -30.0f + 60.0f * unit(rng);
     OcclusionMap map;
     map.reset(view, 2 + trial % 4);  // texel_px 1 samples pixel centres: the next test
-    std::vector<Bounds3> occluders;
-    for (int k = 0; k < 12; ++k) {
-      const glm::vec3 c(-40.0f + 80.0f * unit(rng), -10.0f + 20.0f * unit(rng),
-                        -40.0f + 80.0f * unit(rng));
-      const glm::vec3 s(1.0f + 15.0f * unit(rng), 1.0f + 15.0f * unit(rng),
-                        1.0f + 15.0f * unit(rng));
-      const Bounds3 b = box_at(c, s);
-      if (b.contains(view.pose.position)) continue;
-      occluders.push_back(b);
-      map.add_box(b);
-    }
+    const std::vector<Bounds3> occluders = add_random_occluders(rng, 12, view, map);
     const glm::mat4 vp = view.view_projection();
     for (int q = 0; q < 300; ++q) {
       const glm::vec3 c(-60.0f + 120.0f * unit(rng), -20.0f + 40.0f * unit(rng),
@@ -141,17 +149,7 @@ TEST(OcclusionMap, MarksTheTexelsAFaceCoversWhollyAtItsFarthestDepth) {
     const int texel_px = 2 + trial % 4;
     OcclusionMap map;
     map.reset(view, texel_px);
-    std::vector<Bounds3> occluders;
-    for (int k = 0; k < 6; ++k) {
-      const glm::vec3 c(-40.0f + 80.0f * unit(rng), -10.0f + 20.0f * unit(rng),
-                        -40.0f + 80.0f * unit(rng));
-      const glm::vec3 s(1.0f + 15.0f * unit(rng), 1.0f + 15.0f * unit(rng),
-                        1.0f + 15.0f * unit(rng));
-      const Bounds3 b = box_at(c, s);
-      if (b.contains(view.pose.position)) continue;
-      occluders.push_back(b);
-      map.add_box(b);
-    }
+    const std::vector<Bounds3> occluders = add_random_occluders(rng, 6, view, map);
     const glm::mat4 to_view = view.view_matrix(), to_world = glm::inverse(to_view);
     const glm::mat4 projection = view.projection_matrix();
     const float texels_x = float(view.width) / float(texel_px),
