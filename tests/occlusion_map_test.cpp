@@ -375,5 +375,33 @@ TEST(Occluders, AStreetViewMarksTheMapAndHidesTheCityBehind) {
   EXPECT_GT(hidden, 0);
 }
 
+TEST(Occluders, OneTheNearerOnesHideIsSkippedAndNotCounted) {
+  // From the eye along +X: a wall, a box wholly behind it, and off to the side a farther box;
+  // behind that one, a target that only it hides.
+  Scene scene;
+  SceneBuilder b(scene);
+  const uint32_t opaque = b.add_material(Material{{0.8f, 0.2f, 0.1f, 1.0f}});
+  auto cuboid = [&](const char* name, glm::vec3 lo, glm::vec3 hi) {
+    b.begin_object(name, ObjectKind::building, opaque);
+    test::add_cuboid(b, lo, hi);
+    b.end_object();
+  };
+  cuboid("wall", {10, 0, -3}, {12, 6, 3});
+  cuboid("behind", {20, 0, -2.5f}, {22, 3, 2.5f});
+  cuboid("aside", {24, 0, 8}, {28, 6, 14});
+  const Bounds3 target{{40, 2, 18}, {41, 3, 19}};
+  const View view = test_view();
+  const Frustum frustum(view);
+  OcclusionMap map;
+  Occluders one(scene, OccluderOptions{.per_frame = 1});
+  one.fill(map, view, frustum);
+  EXPECT_FALSE(map.hidden(target));  // the wall alone does not hide it
+  Occluders two(scene, OccluderOptions{.per_frame = 2});
+  two.fill(map, view, frustum);
+  EXPECT_TRUE(map.hidden(scene.objects[1].bounds));
+  EXPECT_EQ(map.occluders(), 2u);
+  EXPECT_TRUE(map.hidden(target));  // "behind" skipped, "aside" taken as the second
+}
+
 }  // namespace
 }  // namespace farfield

@@ -221,6 +221,8 @@ void Occluders::add_nearest(OcclusionMap& map, const View& view, const Frustum& 
       const glm::vec3 s = box->size();
       const float d = std::max(distance_to(*box, eye), view.near_m);
       if (std::max({s.x, s.y, s.z}) * focal / d < options_.min_size_px) continue;
+      // As above: a box the nearer ones hide would mark nothing, and is not counted.
+      if (map.hidden(*box)) continue;
       map.add_box(*box);
       ++added;
     }

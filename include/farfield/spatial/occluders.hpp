@@ -33,7 +33,10 @@ namespace farfield {
 std::optional<Bounds3> inscribed_box(const Scene& scene, uint32_t object);
 
 struct OccluderOptions {
-  uint32_t per_frame = 32;    // occluders rasterised a frame, the nearest objects' first
+  // Occluders rasterised a frame, the nearest objects' first; one that those already in the map
+  // hide wholly adds nothing and is skipped, not counted (128 against the 32 of the previous
+  // release: the 100M street at 33 ms gained 0.5 to 1.2 dB, boxes' fill 0.36 against 0.15 ms).
+  uint32_t per_frame = 128;
   float min_size_px = 16.0f;  // an occluder whose largest side spans fewer pixels is skipped
   int texel_px = 4;           // the map's texels, in pixels a side
   // The nearest opaque objects' own triangles as occluders (the map then at one pixel a texel,

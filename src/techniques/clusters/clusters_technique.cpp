@@ -256,6 +256,14 @@ constexpr SettingSpec kSettings[] = {
              "much; a level of detail drawn instead of an object differs from it by its error); "
              "auto: boxes under a frame budget, whose time they would take, meshes without",
      .choices = "auto|boxes|meshes"},
+    {.key = "occluder_count",
+     .type = SettingType::integer,
+     .default_value = "128",
+     .help = "with occlusion: occluders a frame, the nearest objects' first (one that nearer "
+             "ones hide is skipped, not counted)",
+     .unit = "objects",
+     .min = 1,
+     .max = 1e5},
     {.key = "wait",
      .type = SettingType::flag,
      .default_value = "0",
@@ -348,6 +356,7 @@ const TechniqueDescriptor clusters_descriptor{
       o.occluders = v.text("occluders") == "boxes"    ? ClustersOptions::Occluders::boxes
                     : v.text("occluders") == "meshes" ? ClustersOptions::Occluders::meshes
                                                       : ClustersOptions::Occluders::automatic;
+      o.occluder_count = uint32_t(v.integer("occluder_count"));
       o.hysteresis_rule =
           v.text("hysteresis_rule") == "paper" ? HysteresisRule::paper : HysteresisRule::flips;
       o.traversal =
@@ -590,10 +599,12 @@ Result<void> ClustersTechnique::use(LodSet lods, ClusterTree tree, BoxSet boxes,
   // (none in a pack made without them).
   if (options_.occlusion && (!stream_ || !occluder_boxes_.empty())) {
     if (stream_ || options_.occluders != ClustersOptions::Occluders::meshes)
-      occluders_ = std::make_unique<Occluders>(scene, OccluderOptions{}, occluder_boxes_);
+      occluders_ = std::make_unique<Occluders>(
+          scene, OccluderOptions{.per_frame = options_.occluder_count}, occluder_boxes_);
     if (!stream_ && options_.occluders != ClustersOptions::Occluders::boxes)
       mesh_occluders_ = std::make_unique<Occluders>(
-          scene, OccluderOptions{.per_frame = 128, .meshes = true}, occluder_boxes_);
+          scene, OccluderOptions{.per_frame = options_.occluder_count, .meshes = true},
+          occluder_boxes_);
   }
   frames_ = clusters_drawn_ = lods_drawn_ = full_drawn_ = visited_ = switches_ = boxes_drawn_ = 0;
   averages_drawn_ = billboards_drawn_ = 0;

@@ -60,6 +60,7 @@ struct ClustersOptions {
   bool occlusion = true;  // cull with what the nearest opaque objects hide
   // Boxes inside them, their own triangles, or boxes under a budget and triangles without.
   enum class Occluders : uint8_t { automatic, boxes, meshes } occluders = Occluders::automatic;
+  uint32_t occluder_count = 128;  // a frame, nearest first (OccluderOptions::per_frame)
 };
 
 class ClustersTechnique final : public Technique {
