@@ -7,10 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <span>
-#include <tuple>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
+#include <span>
+#include <tuple>
 
 #include "farfield/core/text.hpp"
 #include "farfield/store/bake_record.hpp"
@@ -379,8 +379,8 @@ size_t instanced_copies(std::span<const DrawRange> ranges) {
   };
   std::sort(drawn.begin(), drawn.end(),
             [&](const DrawRange& a, const DrawRange& b) { return key(a) < key(b); });
-  return drawn.size() - size_t(std::unique(drawn.begin(), drawn.end(), same_range_for_instances) -
-                               drawn.begin());
+  return drawn.size() -
+         size_t(std::unique(drawn.begin(), drawn.end(), same_range_for_instances) - drawn.begin());
 }
 
 // A set's meshes, once saved in pages: its tables stay.
@@ -475,15 +475,14 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
                               : Result<std::optional<BakeRecord>>(std::optional<BakeRecord>{});
   if (!record) return record.error();
   if (*record) {
-    if (auto usable = usable_bake(*context.store, "clusters", clusters_descriptor.bake_format,
-                                  context.on_disk ? context.on_disk->fingerprint()
-                                                  : scene_fingerprint(context.scene),
-                                  clusters_descriptor.oldest_format(context.scene));
+    if (auto usable = usable_bake(
+            *context.store, "clusters", clusters_descriptor.bake_format,
+            context.on_disk ? context.on_disk->fingerprint() : scene_fingerprint(context.scene),
+            clusters_descriptor.oldest_format(context.scene));
         !usable)
       return usable.error();
     // The scene left on disk: the meshes stay in the pack and stream (cluster_stream.hpp).
-    const GeometryLoad geometry =
-        context.on_disk ? GeometryLoad::index_only : GeometryLoad::whole;
+    const GeometryLoad geometry = context.on_disk ? GeometryLoad::index_only : GeometryLoad::whole;
     auto lods = load_lod_set(*context.store, context.scene, geometry);
     if (!lods) return lods.error();
     auto tree = load_cluster_tree(*context.store, context.scene, geometry);
@@ -505,14 +504,15 @@ Result<void> ClustersTechnique::load(const LoadContext& context) {
                std::move(*accuracy), context);
   }
   if (context.on_disk)
-    return make_error("clusters: a scene left on disk (--cache-mb) is walked from a clusters "
-                      "bake: bake one first (farfield bake SCENE --technique clusters --store "
-                      "PACK) and pass --store PACK");
+    return make_error(
+        "clusters: a scene left on disk (--cache-mb) is walked from a clusters "
+        "bake: bake one first (farfield bake SCENE --technique clusters --store "
+        "PACK) and pass --store PACK");
   auto lods = build_lod_set(context.scene, options_.lods, context.progress, nullptr, nullptr,
                             build_cluster_cells(context.scene, options_.tree).objects);
   if (!lods) return make_error("clusters: ", lods.error().message);
-  auto tree = build_cluster_tree(context.scene, options_.tree, context.progress, nullptr, nullptr,
-                                 &*lods);
+  auto tree =
+      build_cluster_tree(context.scene, options_.tree, context.progress, nullptr, nullptr, &*lods);
   if (!tree) return make_error("clusters: ", tree.error().message);
   // Boxes are rendered by a bake; without one there are none.
   occluder_boxes_.clear();
@@ -624,6 +624,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   if (!selection_ || tree_.nodes.empty() || input.region.kind == Region::Kind::far_field) return;
   const View& view = input.view;
   ++frames_;
+  budgeted_ = input.budget.target_ms > 0.0;
   const Frustum frustum(view);
   SelectionView sv;
   sv.frustum = &frustum;
@@ -635,10 +636,10 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   sv.average_px = options_.average_px;
   // Refinements wait (paper 001, Sec. 4.6) once the cost model tells its parts apart: before,
   // the tight first frames' clusters would wait level by level (the 10M street drew 13,000
-  // triangles for its first 8 frames at 5 to 10 ms of 33). With the scene on disk they wait
-  // from the start, which paces the refinement to what the loaders bring (refining at once,
-  // the 100M street's first frames drew the coarse stand-ins round the eye: 6 to 18 dB).
-  sv.hysteresis = stream_ || cost_.separated() ? options_.hysteresis : 0;
+  // triangles for its first 8 frames at 5 to 10 ms of 33). With the scene on disk the start-up
+  // frames wait for their pages instead (starting()); after them, refinements wait from the
+  // start, which paces the refinement to what the loaders bring.
+  sv.hysteresis = cost_.separated() || (stream_ && !starting()) ? options_.hysteresis : 0;
   sv.hysteresis_rule = options_.hysteresis_rule;
   if (options_.errors != ClustersOptions::Errors::geometric && !accuracy_.empty()) {
     sv.accuracy = &accuracy_;
@@ -654,9 +655,9 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   // auto: boxes under a budget (mesh occluders' 8 ms on the 10M street would come out of
   // what the frame can draw: 26.31 dB against 31.56 at 33 ms), meshes without (the same image
   // at error_px=1 in 0.193x brute's time against 0.294x).
-  Occluders* occluders = input.budget.target_ms > 0.0 && occluders_ ? occluders_.get()
-                         : mesh_occluders_                          ? mesh_occluders_.get()
-                                                                    : occluders_.get();
+  Occluders* occluders = budgeted_ && occluders_ ? occluders_.get()
+                         : mesh_occluders_       ? mesh_occluders_.get()
+                                                 : occluders_.get();
   if (occluders) {
     out.occlusion_ms = occluders->fill(occlusion_, view, frustum);
     sv.occlusion = &occlusion_;
@@ -675,11 +676,10 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   // its uploads, and a frame's budget is what its foreseen uploads leave.
   if (!upload_frame_) {
     upload_cost_.observe(last_upload_bytes_, input.budget.last_upload_ms);
-    cost_.observe({double(input.budget.last_triangles), double(input.budget.last_draw_calls),
-                   last_pixels_},
-                  input.budget.last_frame_ms - input.budget.last_upload_ms);
-    budget_target_.observe(last_predicted_ms_, input.budget.last_frame_ms,
-                           input.budget.target_ms);
+    cost_.observe(
+        {double(input.budget.last_triangles), double(input.budget.last_draw_calls), last_pixels_},
+        input.budget.last_frame_ms - input.budget.last_upload_ms);
+    budget_target_.observe(last_predicted_ms_, input.budget.last_frame_ms, input.budget.target_ms);
   }
   upload_frame_ = false;
   last_predicted_ms_ = -1.0;
@@ -719,8 +719,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
       if (!cost_.separated() && input.budget.last_frame_ms < target_ms) {
         probe_triangles_ =
             std::isfinite(last_needed_) ? std::max(2.0 * probe_triangles_, last_needed_) : 0.0;
-        const double growth =
-            std::min(2.0, target_ms / std::max(input.budget.last_frame_ms, 1e-3));
+        const double growth = std::min(2.0, target_ms / std::max(input.budget.last_frame_ms, 1e-3));
         sv.max_triangles = std::max(
             {sv.max_triangles, growth * double(input.budget.last_triangles), probe_triangles_});
       } else {
@@ -794,8 +793,8 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
       case Choice::Kind::lod: {
         ++lods_drawn_;
         const Lod& lod = lods_.lods[c.index];
-        push(lod.first_index - p.index_base, lod.index_count,
-             scene_->objects[lod.object].material, p.mesh, lods_.instance_of(lod.object));
+        push(lod.first_index - p.index_base, lod.index_count, scene_->objects[lod.object].material,
+             p.mesh, lods_.instance_of(lod.object));
         break;
       }
       case Choice::Kind::whole:
@@ -869,11 +868,11 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   last_pixels_ = covered_pixels(view);
   if (cost_.ready()) {
     out.predicted_ms =
-        cost_.predict_ms({double(out.triangle_count_since(before)),
-                          double(out.opaque.size() + out.transparent.size() + out.faded.size() +
-                                 box_draws -
-                                 instanced_copies(std::span(out.opaque).subspan(before.opaque))),
-                          last_pixels_}) +
+        cost_.predict_ms(
+            {double(out.triangle_count_since(before)),
+             double(out.opaque.size() + out.transparent.size() + out.faded.size() + box_draws -
+                    instanced_copies(std::span(out.opaque).subspan(before.opaque))),
+             last_pixels_}) +
         upload_cost_.predict_ms(last_upload_bytes_);
     last_predicted_ms_ = out.predicted_ms;
   }
@@ -925,6 +924,16 @@ size_t ClustersTechnique::add_averages(DrawList& out) {
   return 1;
 }
 
+// The first frames of a walk from disk under a budget, until the cost model tells its parts
+// apart: each waits for the pages it chose, so that the walk starts from what it chose instead
+// of the coarse stand-ins round the eye (the 100M street's first timed frames: 24.6 and 30.0 dB
+// against 15.2 and 14.5, the refinement held level by level or stood in for). Bounded, so that a
+// model that never separates does not make every frame wait.
+bool ClustersTechnique::starting() const {
+  constexpr uint64_t kStartFrames = 16;
+  return stream_ && budgeted_ && !cost_.separated() && frames_ <= kStartFrames;
+}
+
 // Where each choice is drawn from: the technique's meshes, or with the scene on disk what of
 // the pack and the scene is resident (cluster_stream.hpp), waiting for the rest with
 // clusters.wait.
@@ -951,7 +960,7 @@ void ClustersTechnique::place(DrawList& out) {
     // be read.
     stalled = stood_in < fewest ? 0 : stalled + 1;
     fewest = std::min(fewest, stood_in);
-    if (!options_.wait || stalled >= 3 || !failure().empty()) {
+    if ((!options_.wait && !starting()) || stalled >= 3 || !failure().empty()) {
       ++coarser_frames_;
       stood_in_ += stood_in;
       return;
@@ -977,12 +986,10 @@ std::string ClustersTechnique::describe() const {
       "accuracy tables from %zu directions",
       lods_.lods.size(), lods_.first_lod.empty() ? size_t(0) : lods_.first_lod.size() - 1,
       (unsigned long long)lods_.triangle_count(),
-      placed ? formatted("; %zu levels of instances, drawn from their prototypes'", placed)
-                   .c_str()
+      placed ? formatted("; %zu levels of instances, drawn from their prototypes'", placed).c_str()
              : "",
-      tree_.nodes.size(), clusters_,
-      (unsigned long long)tree_.triangle_count(), boxes_.boxes.size(),
-      double(boxes_.texels()) / 1e6, boxes_.mean_texel_m(),
+      tree_.nodes.size(), clusters_, (unsigned long long)tree_.triangle_count(),
+      boxes_.boxes.size(), double(boxes_.texels()) / 1e6, boxes_.mean_texel_m(),
       averages_.empty() ? "no average-colour boxes" : "with average-colour boxes",
       accuracy_.directions.size());
 }

@@ -45,16 +45,16 @@ struct ClustersOptions {
   enum class Errors : uint8_t { image, tables, geometric };
   Errors errors = Errors::image;
   BenefitWeights benefit;
-  float error_px = 1.0f;  // the largest projected geometric error, pixels
+  float error_px = 1.0f;    // the largest projected geometric error, pixels
   float average_px = 1.0f;  // boxes of subjects smaller on screen: average-colour boxes
   ClusterTraversal traversal = ClusterTraversal::refined;
-  int hysteresis = 12;  // frames (paper 001, Sec. 4.6)
+  int hysteresis = 12;       // frames (paper 001, Sec. 4.6)
   double over_share = 0.03;  // under a budget, frames let run over 1.1x it (budget_target.hpp)
-  int pseudo_px = 0;   // > 0: the boxes drawn as pseudo-texture maps of at most this many texels
+  int pseudo_px = 0;     // > 0: the boxes drawn as pseudo-texture maps of at most this many texels
   int blend_frames = 0;  // a switch cross-faded over this many frames (Sec. 5.4); 0: at once
   bool cost_pixels = false;  // the cost model has a part per pixel covered (frame_cost.hpp)
   HysteresisRule hysteresis_rule = HysteresisRule::paper;
-  bool wait = false;      // scene on disk: wait for the pages chosen (tests, references)
+  bool wait = false;         // scene on disk: wait for the pages chosen (tests, references)
   int prefetch_frames = 15;  // scene on disk: ask for where the viewer will be; 0: not
   int box_tile_px = 0;    // the boxes' tiles (box_atlas.hpp); 0: 512 on disk, the pages in memory
   bool occlusion = true;  // cull with what the nearest opaque objects hide
@@ -79,6 +79,7 @@ class ClustersTechnique final : public Technique {
  private:
   Result<void> use(LodSet lods, ClusterTree tree, BoxSet boxes, std::vector<AverageBox> averages,
                    AccuracyTable accuracy, const LoadContext& context);
+  bool starting() const;  // a walk from disk's start-up frames (waiting for their pages)
   void place(DrawList& out);
   size_t add_averages(DrawList& out);
   // The pixels this frame's drawn choices (and those fading out) cover on screen, overlaps
@@ -91,8 +92,8 @@ class ClustersTechnique final : public Technique {
   const Scene* scene_ = nullptr;
   LodSet lods_;
   ClusterTree tree_;
-  size_t clusters_ = 0;  // nodes of tree_ with a cluster
-  BoxSet boxes_;         // without pixels: they are atlas_'s
+  size_t clusters_ = 0;               // nodes of tree_ with a cluster
+  BoxSet boxes_;                      // without pixels: they are atlas_'s
   std::vector<AverageBox> averages_;  // one per box, or none
   std::vector<uint32_t> averages_chosen_;
   PseudoMaps pseudo_;  // clusters.pseudo_px: the boxes' images as meshes; else empty
@@ -102,7 +103,7 @@ class ClustersTechnique final : public Technique {
   MeshHandle average_mesh_;  // this frame's average-colour and pseudo-texture boxes
   TextureHandle white_;
   AccuracyTable accuracy_;
-  float accuracy_px_ = 0.0f;            // texels across a subject at the tables' finest comparison
+  float accuracy_px_ = 0.0f;  // texels across a subject at the tables' finest comparison
   std::unique_ptr<BoxAtlas> atlas_;
   std::vector<uint32_t> boxes_chosen_;
   bool upload_frame_ = false;        // the last frame uploaded every page at once
@@ -115,7 +116,7 @@ class ClustersTechnique final : public Technique {
   MeshHandle lod_mesh_, cluster_mesh_;  // lods_ and tree_'s clusters as scene meshes
   std::unique_ptr<ClusterSelection> selection_;
   std::unique_ptr<SwitchFades> fades_;  // blended switches, with the scene in memory
-  std::unique_ptr<ObjectSet> full_;  // this frame's objects drawn whole
+  std::unique_ptr<ObjectSet> full_;     // this frame's objects drawn whole
   std::vector<Choice> choices_;
   std::unique_ptr<ClusterStream> stream_;  // the scene on disk: meshes streamed, else null
   std::vector<ClusterStream::Placed> placed_, streamed_whole_;
@@ -138,6 +139,7 @@ class ClustersTechnique final : public Technique {
   uint64_t boxes_drawn_ = 0, averages_drawn_ = 0, billboards_drawn_ = 0;
   uint64_t switches_ = 0;
   uint64_t coarser_frames_ = 0, stood_in_ = 0;  // with the scene on disk
+  bool budgeted_ = false;                       // this frame is chosen under a frame-time budget
 };
 
 }  // namespace farfield
