@@ -242,17 +242,24 @@ uint64_t MeshPool::ready_bytes() const {
   return taken;
 }
 
-void MeshPool::wait_for_loads() {
+void MeshPool::wait_for_loads(std::chrono::steady_clock::time_point until) {
   State& s = *s_;
   std::unique_lock lock(s.mutex);
-  s.idle.wait(lock, [&] {
-    return !s.in_flight && (s.queue.empty() || s.done_bytes >= s.read_ahead());
-  });
+  auto idle = [&] { return !s.in_flight && (s.queue.empty() || s.done_bytes >= s.read_ahead()); };
+  if (until != std::chrono::steady_clock::time_point::max()) {
+    s.idle.wait_until(lock, until, idle);  // what is done then goes up at the frame's pace
+    return;
+  }
+  s.idle.wait(lock, idle);
   s.take_all = true;
 }
 
-const MeshPoolCounters& MeshPool::counters() const { return s_->counters; }
+const MeshPoolCounters& MeshPool::counters() const {
+  return s_->counters;
+}
 
-std::string MeshPool::failure() const { return s_->failure; }
+std::string MeshPool::failure() const {
+  return s_->failure;
+}
 
 }  // namespace farfield::gpu

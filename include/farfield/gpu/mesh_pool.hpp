@@ -6,18 +6,19 @@
 // Each frame, on the thread that selects: want() every item the frame would draw (it answers
 // with the item's mesh where it is resident: a frame never waits for the disk), then
 // end_frame(), which asks the loader for the missing ones, highest priority first, then for
-// those prefetched (what was not wanted or prefetched this frame is no longer asked for), takes in what it has loaded, evicting the
-// least recently wanted items not wanted this frame to make room, and puts their uploads in the
-// frame's DrawList (the renderer replaces a pool mesh's buffers with them before it draws), up
-// to MeshPoolOptions::upload_bytes_per_frame; the rest wait for the next frames. An item taken
-// in is drawn from the next frame on. A pool mesh is a scene mesh of the device,
-// made once when the pool is made (on the GL thread): the walk makes no GL object.
+// those prefetched (what was not wanted or prefetched this frame is no longer asked for), takes in
+// what it has loaded, evicting the least recently wanted items not wanted this frame to make room,
+// and puts their uploads in the frame's DrawList (the renderer replaces a pool mesh's buffers with
+// them before it draws), up to MeshPoolOptions::upload_bytes_per_frame; the rest wait for the next
+// frames. An item taken in is drawn from the next frame on. A pool mesh is a scene mesh of the
+// device, made once when the pool is made (on the GL thread): the walk makes no GL object.
 //
 // Memory: the budget bounds the meshes' bytes (on llvmpipe the GPU buffers are in system
 // memory); the loaded data waits in memory only until its upload is drawn, and the loader
 // stops reading ahead past a sixteenth of the budget.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -95,8 +96,10 @@ class MeshPool {
   // the frame's upload bytes): a frame's uploads, foreseen before it selects.
   uint64_t ready_bytes() const;
   // Waits until the loader has nothing left to load (tests, references): the next end_frame
-  // takes in everything asked for that fits, however many bytes.
-  void wait_for_loads();
+  // takes in everything done that fits, however many bytes. With `until`, waits at most until
+  // then, and the next end_frame takes in what the frame's upload bytes allow, as usual.
+  void wait_for_loads(
+      std::chrono::steady_clock::time_point until = std::chrono::steady_clock::time_point::max());
 
   const MeshPoolCounters& counters() const;
   // The first load that failed (its loader's message), or empty: such an item is never asked

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <array>
-#include <map>
 #include <condition_variable>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -63,7 +63,7 @@ BoxTiling tile_boxes(const BoxSet& set, int tile_px) {
       for (int side = 0; side < 6; ++side) {
         const BoxSide& s = set.boxes[b].sides[side];
         key[4 * side] = s.x, key[4 * side + 1] = s.y, key[4 * side + 2] = s.w,
-        key[4 * side + 3] = s.h;
+                key[4 * side + 3] = s.h;
       }
       if (const auto [at, fresh] = first_with.try_emplace(key, b); !fresh) {
         const TexturedBox& first = t.tiles.boxes[at->second];
@@ -383,12 +383,17 @@ uint64_t BoxAtlas::ready_bytes() const {
   return bytes;
 }
 
-void BoxAtlas::wait_for_loads() {
+void BoxAtlas::wait_for_loads(std::chrono::steady_clock::time_point until) {
   if (!loader_) return;
   std::unique_lock lock(loader_->mutex);
-  loader_->idle.wait(lock, [&] {
+  auto idle = [&] {
     return !loader_->in_flight && (loader_->queue.empty() || loader_->done.size() >= kReadAhead);
-  });
+  };
+  if (until != std::chrono::steady_clock::time_point::max()) {
+    loader_->idle.wait_until(lock, until, idle);  // what is cut then goes up at the frame's pace
+    return;
+  }
+  loader_->idle.wait(lock, idle);
   take_all_ = true;
 }
 

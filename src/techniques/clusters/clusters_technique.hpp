@@ -7,6 +7,7 @@
 // the budget turned into triangles by a cost model fitted to the frames measured.
 #pragma once
 
+#include <chrono>
 #include <memory>
 
 #include "farfield/core/frustum.hpp"
@@ -140,6 +141,8 @@ class ClustersTechnique final : public Technique {
   uint64_t switches_ = 0;
   uint64_t coarser_frames_ = 0, stood_in_ = 0;  // with the scene on disk
   bool budgeted_ = false;                       // this frame is chosen under a frame-time budget
+  double budget_ms_ = 0.0;
+  std::chrono::steady_clock::time_point frame_start_;  // select() of this frame began
 };
 
 }  // namespace farfield

@@ -17,6 +17,7 @@
 // Both ways draw the same pixels for the same tiles (mipmapped by the renderer).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -83,8 +84,10 @@ class BoxAtlas {
   // The bytes end_frame would take in were it called now.
   uint64_t ready_bytes() const;
   void set_upload_bytes_per_frame(uint64_t bytes) { upload_bytes_per_frame_ = bytes; }
-  // Waits until every tile asked for is cut: the next end_frame takes them all in.
-  void wait_for_loads();
+  // Waits until every tile asked for is cut: the next end_frame takes them all in. With
+  // `until`, at most until then, and the next end_frame takes in what its upload bytes allow.
+  void wait_for_loads(
+      std::chrono::steady_clock::time_point until = std::chrono::steady_clock::time_point::max());
   // The chosen boxes as draws, neighbours in a tile one draw (`chosen` sorted, then cleared);
   // returns the draws the renderer will count for them.
   size_t add(std::vector<uint32_t>& chosen, DrawList& out) const;

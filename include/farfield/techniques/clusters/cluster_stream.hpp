@@ -13,6 +13,7 @@
 // leave, so that there is always something to stand in.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <memory>
@@ -66,7 +67,10 @@ class ClusterStream {
   void prefetch(std::span<const Choice> choices, const glm::vec3& eye);
   // After place and prefetch (MeshPool::end_frame); returns the wants missed.
   uint64_t end_frame(DrawList& out) { return pool_->end_frame(out); }
-  void wait_for_loads() { pool_->wait_for_loads(); }
+  void wait_for_loads(
+      std::chrono::steady_clock::time_point until = std::chrono::steady_clock::time_point::max()) {
+    pool_->wait_for_loads(until);
+  }
   uint64_t ready_bytes() const { return pool_->ready_bytes(); }
   void set_upload_bytes_per_frame(uint64_t bytes) { pool_->set_upload_bytes_per_frame(bytes); }
   const gpu::MeshPoolCounters& counters() const { return pool_->counters(); }
@@ -108,11 +112,11 @@ class ClusterStream {
   BoxAtlas& atlas_;
   gpu::Device& device_;
   std::unique_ptr<gpu::MeshPool> pool_;
-  MeshHandle pinned_;          // tree pages [0, pinned_pages_), end to end
+  MeshHandle pinned_;  // tree pages [0, pinned_pages_), end to end
   uint32_t pinned_pages_ = 0;
   uint64_t pinned_bytes_ = 0;
   ChoiceAnchors anchors_;
-  std::vector<uint32_t> box_object_;      // per box: its object; UINT32_MAX: a node's
+  std::vector<uint32_t> box_object_;     // per box: its object; UINT32_MAX: a node's
   std::vector<uint8_t> standing_;        // per node: standing in this frame (2: placed)
   std::vector<uint32_t> standing_list_;  // those nodes
   struct Candidate {
