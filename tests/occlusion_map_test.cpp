@@ -47,17 +47,21 @@ float enters_at(const glm::vec3& origin, const glm::vec3& dir, const Bounds3& bo
   return t0 <= t1 ? t0 : INFINITY;
 }
 
+// A random cuboid around the origin: 1 to 16 m a side, within 40 m across and 10 m up or down.
+Bounds3 random_cuboid(std::mt19937& rng) {
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const glm::vec3 c(-40.0f + 80.0f * unit(rng), -10.0f + 20.0f * unit(rng),
+                    -40.0f + 80.0f * unit(rng));
+  const glm::vec3 s(1.0f + 15.0f * unit(rng), 1.0f + 15.0f * unit(rng), 1.0f + 15.0f * unit(rng));
+  return box_at(c, s);
+}
+
 // `count` random cuboids around the origin (those holding the eye left out), added to `map`.
 std::vector<Bounds3> add_random_occluders(std::mt19937& rng, int count, const View& view,
                                           OcclusionMap& map) {
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   std::vector<Bounds3> occluders;
   for (int k = 0; k < count; ++k) {
-    const glm::vec3 c(-40.0f + 80.0f * unit(rng), -10.0f + 20.0f * unit(rng),
-                      -40.0f + 80.0f * unit(rng));
-    const glm::vec3 s(1.0f + 15.0f * unit(rng), 1.0f + 15.0f * unit(rng),
-                      1.0f + 15.0f * unit(rng));
-    const Bounds3 b = box_at(c, s);
+    const Bounds3 b = random_cuboid(rng);
     if (b.contains(view.pose.position)) continue;
     occluders.push_back(b);
     map.add_box(b);
@@ -228,11 +232,7 @@ TEST(OcclusionMap, MeshOccludersHideOnlyWhatEveryPixelCentreSeesBehindThem) {
     const uint32_t material = b.add_material({});
     std::vector<Bounds3> occluders;
     for (int k = 0; k < 12; ++k) {
-      const glm::vec3 c(-40.0f + 80.0f * unit(rng), -10.0f + 20.0f * unit(rng),
-                        -40.0f + 80.0f * unit(rng));
-      const glm::vec3 s(1.0f + 15.0f * unit(rng), 1.0f + 15.0f * unit(rng),
-                        1.0f + 15.0f * unit(rng));
-      const Bounds3 box = box_at(c, s);
+      const Bounds3 box = random_cuboid(rng);
       if (box.contains(view.pose.position)) continue;
       b.begin_object("cuboid", ObjectKind::mesh, material);
       test::add_cuboid(b, box.min, box.max);
