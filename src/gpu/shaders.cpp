@@ -101,12 +101,12 @@ layout(location = 0) out vec4 frag_color;
 void main() {
 #ifdef ONE_SIDED
   frag_color = v_color;
-  return;
-#endif
+#else
   if (faded_out()) discard;
   float light = gl_FrontFacing ? v_light.x : v_light.y;
   vec3 base = mix(v_color.rgb, tint.rgb, tint.a);
   frag_color = vec4(min(base * light, vec3(1.0)), v_color.a);
+#endif
 }
 )";
 

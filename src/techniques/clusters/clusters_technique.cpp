@@ -625,7 +625,6 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   const View& view = input.view;
   ++frames_;
   frame_start_ = std::chrono::steady_clock::now();
-  budgeted_ = input.budget.target_ms > 0.0;
   budget_ms_ = input.budget.target_ms;
   const Frustum frustum(view);
   SelectionView sv;
@@ -657,7 +656,7 @@ void ClustersTechnique::select(const FrameInput& input, DrawList& out) {
   // auto: boxes under a budget (mesh occluders' 8 ms on the 10M street would come out of
   // what the frame can draw: 26.31 dB against 31.56 at 33 ms), meshes without (the same image
   // at error_px=1 in 0.193x brute's time against 0.294x).
-  Occluders* occluders = budgeted_ && occluders_ ? occluders_.get()
+  Occluders* occluders = budgeted() && occluders_ ? occluders_.get()
                          : mesh_occluders_       ? mesh_occluders_.get()
                                                  : occluders_.get();
   if (occluders) {
@@ -934,7 +933,7 @@ size_t ClustersTechnique::add_averages(DrawList& out) {
 // to 24.6 dB against 15.2 but frames of 50 to 110 ms (p99 1.62x in a walk without brute).
 bool ClustersTechnique::starting() const {
   constexpr uint64_t kStartFrames = 16;
-  return stream_ && budgeted_ && !cost_.separated() && frames_ <= kStartFrames;
+  return stream_ && budgeted() && !cost_.separated() && frames_ <= kStartFrames;
 }
 
 // Where each choice is drawn from: the technique's meshes, or with the scene on disk what of

@@ -140,8 +140,8 @@ class ClustersTechnique final : public Technique {
   uint64_t boxes_drawn_ = 0, averages_drawn_ = 0, billboards_drawn_ = 0;
   uint64_t switches_ = 0;
   uint64_t coarser_frames_ = 0, stood_in_ = 0;  // with the scene on disk
-  bool budgeted_ = false;                       // this frame is chosen under a frame-time budget
-  double budget_ms_ = 0.0;
+  double budget_ms_ = 0.0;  // this frame's frame-time budget; 0: chosen by error alone
+  bool budgeted() const { return budget_ms_ > 0.0; }
   std::chrono::steady_clock::time_point frame_start_;  // select() of this frame began
 };
 
