@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -149,6 +150,32 @@ TEST(AccuracyTableGL, ErrorsGrowAlongChainsAndSeeWhatGeometryMisses) {
   for (uint32_t box = 0; box < b.boxes.boxes.size(); ++box)
     differs += t.box(box, 0) != b.boxes.boxes[box].error_m;
   EXPECT_GT(differs, int(b.boxes.boxes.size()) / 2);
+}
+
+// A level that fails at the finest comparison takes the texel where its similarity crosses
+// the threshold, between the failing and the passing level's: its errors are not the powers
+// of two of the finest texel that the passing level's texel alone would give.
+TEST(AccuracyTableGL, ErrorsLieWhereTheSimilarityCrossesTheThreshold) {
+  const Baked& b = baked();
+  if (!b.skip.empty()) GTEST_SKIP() << b.skip;
+  const AccuracyTable& t = b.table;
+  const AccuracyOptions defaults;
+  const size_t k_count = t.directions.size();
+  int between = 0, powers = 0;
+  for (uint32_t o = 0; o < b.scene.objects.size(); ++o) {
+    const float size = glm::length(b.scene.objects[o].bounds.size());
+    const float texel = size / float(defaults.resolution_px);
+    for (uint32_t l = b.lods.first_lod[o]; l < b.lods.first_lod[o + 1]; ++l)
+      for (uint32_t k = 0; k < k_count; ++k) {
+        const float e = t.lod(l, k);
+        if (e <= texel * 1.001f || e >= size * 0.999f) continue;
+        ++between;
+        const float steps = std::log2(e / texel);
+        powers += std::abs(steps - std::round(steps)) < 1e-3f;
+      }
+  }
+  ASSERT_GT(between, 20);
+  EXPECT_LT(powers, between / 4) << powers << " of " << between << " errors are powers of two";
 }
 
 // `lods` with every instance's levels made geometry of their own (its prototype's, moved), on

@@ -68,12 +68,20 @@ double similarity(const Shot& a, const Shot& b, Comparator comparator) {
 float image_error(const Shot& reference, const Shot& shot, float texel_m, float size_m,
                   const AccuracyOptions& o) {
   Shot a = reference, b = shot;
+  double failed = 0.0;  // the similarity at the level before
   for (int level = 0; level < o.levels; ++level) {
     const double s = similarity(a, b, o.comparator);
     if (s >= o.threshold) {
-      if (level > 0) return texel_m * float(1 << level);
-      return texel_m * float(std::clamp((1.0 - s) / std::max(1.0 - o.threshold, 1e-6), 0.0, 1.0));
+      if (level == 0)
+        return texel_m *
+               float(std::clamp((1.0 - s) / std::max(1.0 - o.threshold, 1e-6), 0.0, 1.0));
+      // The texel at which the similarity reaches the threshold, between the level that failed
+      // and this one, on the scale of log texel size (not this level's texel, which made every
+      // error a power of two of the finest texel and overstated it by up to 2x).
+      const double at = std::clamp((o.threshold - failed) / std::max(s - failed, 1e-9), 0.0, 1.0);
+      return texel_m * std::exp2(float(level - 1) + float(at));
     }
+    failed = s;
     if (level + 1 < o.levels) {
       a = half_size(a);
       b = half_size(b);

@@ -6,9 +6,11 @@
 // The paper keeps an accuracy in [0, 1] per (representation, direction) and weighs it against
 // benefit and cost; here it becomes an error in metres, on the scale of the geometric errors,
 // so that both selection modes use it unchanged: the images are compared at `levels`
-// resolutions, each half the last's, and the error is the texel size of the finest level at
-// which the representation's image passes (similarity >= threshold); below the finest level,
-// that texel size times how far the similarity is from 1 relative to the threshold's; where
+// resolutions, each half the last's, and the error is the texel size at which the
+// representation's image reaches the threshold (similarity >= threshold): between the texels
+// of the level that failed and the first that passed, where the similarity, taken as linear
+// in log texel size between them, crosses the threshold; passing at the finest level, that
+// level's texel times how far the similarity is from 1 relative to the threshold's; where
 // no level passes, the subject's size. A representation whose error projects below a pixel
 // then looks like the full geometry at the frame's resolution: a level that lost its windows
 // has a geometric error of centimetres and an image error of metres.
