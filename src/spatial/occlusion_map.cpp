@@ -239,6 +239,13 @@ void OcclusionMap::fill_centres(const glm::vec2* poly, int count, const glm::vec
   if (i1 < i0 || j1 < j0) return;
   glm::vec3 edges[8];
   edge_lines(poly, count, edges);
+  float inverse_x[8];  // per edge 1 / a, once a polygon instead of once a row
+  for (int k = 0; k < count; ++k) inverse_x[k] = edges[k].x != 0.0f ? 1.0f / edges[k].x : 0.0f;
+  const auto inside = [&](float x, float y) {
+    for (int k = 0; k < count; ++k)
+      if (!(edges[k].x * x + edges[k].y * y + edges[k].z >= kEdgeMargin)) return false;
+    return true;
+  };
   // Row by row, the span of centres inside every edge; 1/depth is affine along it.
   const float da = n.x / scale_x_;  // n.r per pixel along x
   for (int j = j0; j <= j1; ++j) {
@@ -247,27 +254,26 @@ void OcclusionMap::fill_centres(const glm::vec2* poly, int count, const glm::vec
     for (int k = 0; k < count; ++k) {
       const float rest = kEdgeMargin - edges[k].y * y - edges[k].z;  // ex * x >= rest
       if (edges[k].x > 0.0f)
-        left = std::max(left, rest / edges[k].x);
+        left = std::max(left, rest * inverse_x[k]);
       else if (edges[k].x < 0.0f)
-        right = std::min(right, rest / edges[k].x);
+        right = std::min(right, rest * inverse_x[k]);
       else if (rest > 0.0f)
         right = -1.0f;  // a horizontal edge this row lies outside of
     }
-    const int from = std::max(i0, int(std::ceil(left - 0.5f)));
-    const int to = std::min(i1, int(std::floor(right - 0.5f)));
+    int from = std::max(i0, int(std::ceil(left - 0.5f)));
+    int to = std::min(i1, int(std::floor(right - 0.5f)));
+    // The span's ends are computed in floats: test them again exactly.
+    if (from <= to && !inside(float(from) + 0.5f, y)) ++from;
+    if (from <= to && !inside(float(to) + 0.5f, y)) --to;
     if (to < from) continue;
     float* row = &depth_[size_t(j) * size_t(width_)];
-    float nr = n.x * ((float(from) + 0.5f - 0.5f * texels_x_) / scale_x_) + n.y * b - n.z;
-    for (int i = from; i <= to; ++i, nr += da) {
-      // The span's ends are computed in floats: test them again exactly.
-      if ((i == from || i == to)) {
-        const float x = float(i) + 0.5f;
-        bool in = true;
-        for (int k = 0; k < count && in; ++k)
-          in = edges[k].x * x + edges[k].y * y + edges[k].z >= kEdgeMargin;
-        if (!in) continue;
-      }
-      if (nr < 0.0f) row[i] = std::min(row[i], c / nr);
+    const float nr0 = n.x * ((float(from) + 0.5f - 0.5f * texels_x_) / scale_x_) + n.y * b - n.z;
+    // Without branches, so that the compiler runs it several pixels at a time.
+    const int span = to - from + 1;
+    float* at = row + from;
+    for (int i = 0; i < span; ++i) {
+      const float nr = nr0 + da * float(i), depth = c / nr;
+      at[i] = std::min(at[i], nr < 0.0f ? depth : kInf);
     }
   }
 }
