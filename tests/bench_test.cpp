@@ -4,10 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include <nlohmann/json.hpp>
 
+#include "farfield/core/assert.hpp"
 #include "farfield/gpu/context.hpp"
 #include "farfield/scene/city_generator.hpp"
 #include "farfield/scene/path_generator.hpp"
@@ -16,19 +18,30 @@
 namespace farfield {
 namespace {
 
+// A city of 2 x 2 blocks and a street path of `frames` through it.
+struct SmallCity {
+  Scene city;
+  CameraPath path;
+};
+SmallCity small_city(uint32_t frames) {
+  Progress quiet(true);
+  CityOptions city_options;
+  city_options.blocks_x = city_options.blocks_z = 2;
+  auto city = generate_city(city_options, quiet);
+  FF_ASSERT(city.ok(), "city");
+  PathOptions path_options;
+  path_options.frames = frames;
+  auto path = generate_path(*city, path_options);
+  FF_ASSERT(path.ok(), "path");
+  return {std::move(*city), std::move(*path)};
+}
+
 TEST(BenchGL, WritesEveryFieldAndOctreeMatchesBrute) {
   if (auto context = gpu::create_headless_context(); !context)
     GTEST_SKIP() << context.error().message;
   test::TempDir dir;
-  CityOptions city_options;
-  city_options.blocks_x = city_options.blocks_z = 2;
   Progress quiet(true);
-  auto city = generate_city(city_options, quiet);
-  ASSERT_TRUE(city);
-  PathOptions path_options;
-  path_options.frames = 12;
-  auto path = generate_path(*city, path_options);
-  ASSERT_TRUE(path) << path.error().message;
+  const auto [city, path] = small_city(12);
 
   BenchOptions options;
   options.scene_file = "city.ffscene";
@@ -38,7 +51,7 @@ TEST(BenchGL, WritesEveryFieldAndOctreeMatchesBrute) {
   options.out_dir = dir.file("out");
   options.warmup_frames = 1;
   options.reference_every = 4;
-  auto report = run_bench(*city, *path, options, quiet);
+  auto report = run_bench(city, path, options, quiet);
   ASSERT_TRUE(report) << report.error().message;
   ASSERT_EQ(report->techniques.size(), 3u);
   EXPECT_EQ(report->techniques[0].name, "brute");  // the reference runs first
@@ -83,7 +96,7 @@ TEST(BenchGL, WritesEveryFieldAndOctreeMatchesBrute) {
   test::write_file(dir.file("out/notes.txt"), "mine");
   options.techniques = {"raw"};
   options.plot = false;
-  ASSERT_TRUE(run_bench(*city, *path, options, quiet));
+  ASSERT_TRUE(run_bench(city, path, options, quiet));
   EXPECT_FALSE(std::filesystem::exists(dir.file("out/octree_frame0011.png")));
   EXPECT_FALSE(std::filesystem::exists(dir.file("out/frame_times.png")));
   EXPECT_TRUE(std::filesystem::exists(dir.file("out/raw_frame0011.png")));
@@ -92,7 +105,7 @@ TEST(BenchGL, WritesEveryFieldAndOctreeMatchesBrute) {
   // --no-brute: the technique alone, nothing compared, its sample frames saved as they are.
   options.techniques = {"octree"};
   options.brute = false;
-  auto alone = run_bench(*city, *path, options, quiet);
+  auto alone = run_bench(city, path, options, quiet);
   ASSERT_TRUE(alone) << alone.error().message;
   ASSERT_EQ(alone->techniques.size(), 1u);
   EXPECT_EQ(alone->techniques[0].name, "octree");
@@ -106,7 +119,7 @@ TEST(BenchGL, WritesEveryFieldAndOctreeMatchesBrute) {
   EXPECT_TRUE(std::filesystem::exists(dir.file("out/octree_frame0011.png")));
   EXPECT_FALSE(std::filesystem::exists(dir.file("out/octree_frame0011_diff.png")));
   options.techniques = {"brute"};
-  auto named = run_bench(*city, *path, options, quiet);
+  auto named = run_bench(city, path, options, quiet);
   ASSERT_FALSE(named);
   EXPECT_NE(named.error().message.find("--no-brute"), std::string::npos) << named.error().message;
 }
@@ -118,15 +131,8 @@ TEST(BenchGL, ReportsTheBudgetAndPredictedFrameTimes) {
   if (auto context = gpu::create_headless_context(); !context)
     GTEST_SKIP() << context.error().message;
   test::TempDir dir;
-  CityOptions city_options;
-  city_options.blocks_x = city_options.blocks_z = 2;
   Progress quiet(true);
-  auto city = generate_city(city_options, quiet);
-  ASSERT_TRUE(city);
-  PathOptions path_options;
-  path_options.frames = 10;
-  auto path = generate_path(*city, path_options);
-  ASSERT_TRUE(path);
+  const auto [city, path] = small_city(10);
   BenchOptions options;
   options.scene_file = "city.ffscene";
   options.techniques = {"clusters"};
@@ -137,7 +143,7 @@ TEST(BenchGL, ReportsTheBudgetAndPredictedFrameTimes) {
   options.budget_ms = 50;
   options.plot = false;
   options.noise_floor = true;
-  auto report = run_bench(*city, *path, options, quiet);
+  auto report = run_bench(city, path, options, quiet);
   ASSERT_TRUE(report) << report.error().message;
   const auto json = nlohmann::json::parse(test::read_file(dir.file("out/bench.json")));
   const auto& brute = json["techniques"][0];
@@ -179,6 +185,52 @@ TEST(BenchGL, ReportsTheBudgetAndPredictedFrameTimes) {
   EXPECT_NE(table.find("over_1.1x"), std::string::npos) << table;
   EXPECT_NE(table.find("pred_err"), std::string::npos) << table;
   EXPECT_NE(table.find("noise floor"), std::string::npos) << table;
+}
+
+// Against brute drawn at twice the size and averaged, brute's own frames differ (its aliasing)
+// and octree's are as far off as brute's (they draw the same pixels); frames not compared
+// carry no such figure, and the sample frames' references are saved.
+TEST(BenchGL, ComparesWithASupersampledReference) {
+  if (auto context = gpu::create_headless_context(); !context)
+    GTEST_SKIP() << context.error().message;
+  test::TempDir dir;
+  Progress quiet(true);
+  const auto [city, path] = small_city(6);
+  BenchOptions options;
+  options.techniques = {"octree"};
+  options.width = 160;
+  options.height = 120;
+  options.out_dir = dir.file("out");
+  options.warmup_frames = 0;
+  options.reference_every = 3;
+  options.sample_images = 1;
+  options.plot = false;
+  options.reference_supersample = 2;
+  auto report = run_bench(city, path, options, quiet);
+  ASSERT_TRUE(report) << report.error().message;
+  ASSERT_EQ(report->techniques.size(), 2u);
+  const auto& brute = report->techniques[0].frames;
+  const auto& octree = report->techniques[1].frames;
+  for (size_t f = 0; f < brute.size(); ++f) {
+    SCOPED_TRACE(f);
+    if (!brute[f].compared) {
+      EXPECT_EQ(brute[f].psnr_supersampled_db, 0.0);
+      continue;
+    }
+    EXPECT_TRUE(std::isfinite(brute[f].psnr_supersampled_db));
+    EXPECT_GT(brute[f].psnr_supersampled_db, 15.0);
+    EXPECT_LT(brute[f].psnr_supersampled_db, 60.0);
+    EXPECT_DOUBLE_EQ(octree[f].psnr_supersampled_db, brute[f].psnr_supersampled_db);
+  }
+  const auto json = nlohmann::json::parse(test::read_file(dir.file("out/bench.json")));
+  const auto& summary = json["techniques"][1]["summary"];
+  EXPECT_EQ(summary["reference_supersample"], 2);
+  EXPECT_GT(summary["psnr_supersampled_db_mean"].get<double>(), 15.0);
+  EXPECT_FALSE(json["techniques"][1]["frames"][1].contains("psnr_supersampled_db"));
+  bool saved = false;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.file("out")))
+    saved |= entry.path().filename().string().ends_with("_supersampled.png");
+  EXPECT_TRUE(saved);
 }
 
 TEST(TimingNoise, TimesEachRoundOfAWorkloadCalibratedToItsLength) {

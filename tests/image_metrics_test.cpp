@@ -31,5 +31,24 @@ TEST(ImageMetrics, PsnrAndDifferenceFollowTheDefinitions) {
   EXPECT_EQ(difference_image(b, a).pixel(1, 0)[0], 118);
 }
 
+TEST(ImageMetrics, BoxDownsampleAveragesEachBlock) {
+  Image a(4, 2);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x) {
+      a.pixel(x, y)[0] = (x + y) % 2 ? 255 : 0;  // a checkerboard averages to mid grey
+      a.pixel(x, y)[1] = uint8_t(10 * x);
+      a.pixel(x, y)[2] = 7;
+    }
+  const Image d = box_downsample(a, 2);
+  ASSERT_EQ(d.width, 2);
+  ASSERT_EQ(d.height, 1);
+  EXPECT_EQ(d.pixel(0, 0)[0], 128);  // 510 / 4 rounded to nearest
+  EXPECT_EQ(d.pixel(1, 0)[0], 128);
+  EXPECT_EQ(d.pixel(0, 0)[1], 5);
+  EXPECT_EQ(d.pixel(1, 0)[1], 25);
+  EXPECT_EQ(d.pixel(1, 0)[2], 7);
+  EXPECT_EQ(box_downsample(a, 1).rgb, a.rgb);
+}
+
 }  // namespace
 }  // namespace farfield

@@ -83,6 +83,9 @@ TEST_F(RefusalGL, BenchChecksEverythingBeforeTheFirstFrame) {
   expect_refused("-t teleport", "unknown technique 'teleport'");
   expect_refused("-t composite --set composite.far=octree", "composite.far");
   expect_refused("-t brute --interleave --pipelined", "cannot be combined");
+  expect_refused("-t octree --no-brute --reference-supersample 2", "needs brute's frames", 2);
+  expect_refused("-t octree --reference-supersample 5", "--reference-supersample", 2);
+  expect_refused("-t octree --width 8000 --reference-supersample 3", "over 16384 pixels", 2);
   // A walk setting is the run's to choose, a bake setting that agrees with the pack is fine.
   const std::string out = file("fine");
   auto fine =

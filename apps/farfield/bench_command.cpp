@@ -1,10 +1,12 @@
 // farfield bench SCENE --path path.json --technique brute,octree --out DIR
+#include <algorithm>
 #include <cstdio>
 
 #include "commands.hpp"
 #include "large_pages.hpp"
 #include "farfield/scene/chunked_scene.hpp"
 #include "farfield/core/camera_path.hpp"
+#include "farfield/core/text.hpp"
 #include "farfield/core/view.hpp"
 #include "farfield/eval/bench.hpp"
 #include "farfield/scene/scene_file.hpp"
@@ -59,6 +61,12 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
   cmd->add_option("--reference-every", s->bench.reference_every,
                   "Compare with brute every N frames (0: sample frames only)")
       ->capture_default_str();
+  cmd->add_option("--reference-supersample", s->bench.reference_supersample,
+                  "N > 1: also compare the compared frames with brute drawn at N times the width "
+                  "and height, each N x N block averaged (an antialiased reference, against "
+                  "which brute's own aliasing counts too): psnr_supersampled_db")
+      ->check(CLI::Range(1, 4))
+      ->capture_default_str();
   cmd->add_flag("--no-brute", s->no_brute,
                 "Leave brute force out: nothing compared, no x_brute; for timing techniques on "
                 "their own where brute force is too slow (sample frames still saved)");
@@ -111,6 +119,18 @@ void add_bench_command(CLI::App& root, std::vector<Command>& commands) {
                             return usage_error(ok.error().message);
                         s->bench.plot = !s->no_plot;
                         s->bench.brute = !s->no_brute;
+                        if (s->bench.reference_supersample > 1 && !s->bench.brute)
+                          return usage_error(
+                              "--reference-supersample needs brute's frames: not with --no-brute");
+                        if (std::max(s->bench.width, s->bench.height) *
+                                s->bench.reference_supersample >
+                            kMaxImageSide)
+                          return usage_error(formatted(
+                              "--reference-supersample %d: %dx%d frames drawn at %dx%d, over "
+                              "%d pixels a side",
+                              s->bench.reference_supersample, s->bench.width, s->bench.height,
+                              s->bench.width * s->bench.reference_supersample,
+                              s->bench.height * s->bench.reference_supersample, kMaxImageSide));
                         if (s->light.size() == 2) {
                           s->bench.light_heading_deg = s->light[0];
                           s->bench.light_elevation_deg = s->light[1];

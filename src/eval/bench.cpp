@@ -261,12 +261,13 @@ class BenchRun {
         if (auto ok = write_png(image, frame_file(o_.out_dir, name, f, "")); !ok) return ok;
       }
       reference_[f] = std::move(reference);
-      return {};
+      return supersample(e, f, image, record);
     }
     if (name == "brute") {
       record.psnr_db = compare_images(image, image).psnr_db;
       if (save)
         if (auto ok = write_png(image, frame_file(o_.out_dir, name, f, "")); !ok) return ok;
+      if (auto ok = supersample(e, f, image, record); !ok) return ok;
       reference_[f] = std::move(image);
       return {};
     }
@@ -274,9 +275,38 @@ class BenchRun {
     const ImageComparison c = compare_images(ref, image);
     record.psnr_db = c.psnr_db;
     record.differing_pixels = c.differing_pixels;
+    if (auto it = supersampled_.find(f); it != supersampled_.end())
+      record.psnr_supersampled_db = compare_images(it->second, image).psnr_db;
     if (!save) return {};
     if (auto ok = write_png(image, frame_file(o_.out_dir, name, f, "")); !ok) return ok;
     return write_png(difference_image(ref, image), frame_file(o_.out_dir, name, f, "_diff"));
+  }
+
+  // With reference_supersample > 1, brute's frame f drawn at that many times the width and
+  // height and box-filtered back to the frame's size: kept as the antialiased reference, and
+  // brute's own `image` compared with it.
+  Result<void> supersample(Entry& brute, uint32_t f, const Image& image, FrameRecord& record) {
+    const int k = o_.reference_supersample;
+    if (k <= 1) return {};
+    View large = view_at(f);
+    large.width *= k;
+    large.height *= k;
+    renderer_.set_offscreen(large.width, large.height);
+    Result<void> drawn = {};
+    if (on_disk_)
+      drawn = draw_chunked_reference(renderer_, *on_disk_, large, o_.cache_mb * 1000000);
+    else
+      loop_.run(*brute.technique, large, f, FrameBudget{});
+    Image reference = drawn ? renderer_.capture() : Image();
+    renderer_.set_offscreen(o_.width, o_.height);
+    if (!drawn) return make_error("brute's supersampled reference: ", drawn.error().message);
+    reference = box_downsample(reference, k);
+    if (sample(f))
+      if (auto ok = write_png(reference, frame_file(o_.out_dir, "brute", f, "_supersampled")); !ok)
+        return ok;
+    record.psnr_supersampled_db = compare_images(reference, image).psnr_db;
+    supersampled_[f] = std::move(reference);
+    return {};
   }
 
   Result<void> frame(Entry& e, uint32_t f) {
@@ -362,6 +392,7 @@ class BenchRun {
   Progress& progress_;
   const std::vector<uint32_t> samples_;
   std::map<uint32_t, Image> reference_;  // brute's frames that others are compared with
+  std::map<uint32_t, Image> supersampled_;  // the same supersampled (reference_supersample)
 };
 
 }  // namespace

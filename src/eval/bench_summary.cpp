@@ -50,6 +50,11 @@ BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute, i
     s.mean_draw_calls += double(f.draw_calls) / double(n);
     if (!f.compared) continue;
     s.compared_frames++;
+    if (f.psnr_supersampled_db > 0) {
+      s.supersampled_frames++;
+      s.psnr_supersampled_db_mean +=
+          std::isfinite(f.psnr_supersampled_db) ? f.psnr_supersampled_db : s.psnr_ceiling_db;
+    }
     if (f.differing_pixels == 0) {
       s.identical_frames++;
       continue;
@@ -66,6 +71,7 @@ BenchSummary summarize(const TechniqueRecord& t, const TechniqueRecord* brute, i
                        ? (psnr_sum + s.identical_frames * s.psnr_ceiling_db) / s.compared_frames
                        : 0.0;
   if (s.compared_frames == 0) s.psnr_db_min = 0.0;
+  if (s.supersampled_frames) s.psnr_supersampled_db_mean /= s.supersampled_frames;
   std::sort(pipelined.begin(), pipelined.end());
   s.pipelined_median_ms = median(pipelined);
   s.pipelined_p99_ms = percentile(pipelined, 99);

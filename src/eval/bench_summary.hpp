@@ -17,6 +17,10 @@ struct BenchSummary {
   // so that techniques that differ on different frames compare; 0 when none differs.
   double psnr_db_pooled = 0;
   double psnr_ceiling_db = 0;
+  // Over the compared frames against brute supersampled (BenchOptions::reference_supersample),
+  // brute's own frames included, an identical frame at the ceiling; 0 without one.
+  uint32_t supersampled_frames = 0;
+  double psnr_supersampled_db_mean = 0;
   double pipelined_median_ms = 0, pipelined_p99_ms = 0, pipelined_latency_median_ms = 0;
   // Against brute, frame by frame (0 for brute itself).
   double median_ratio_to_brute = 0;          // median(this) / median(brute)

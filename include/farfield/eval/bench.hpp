@@ -38,6 +38,10 @@ struct BenchOptions {
   std::string out_dir;
   uint32_t warmup_frames = 3;     // drawn before timing, untimed
   uint32_t reference_every = 10;  // compare with brute every N frames (and on sample frames)
+  // > 1: the compared frames are also compared with brute drawn at this many times the width
+  // and height, each block of N x N pixels averaged (an antialiased reference, against which
+  // brute's own aliasing counts as error too): FrameRecord::psnr_supersampled_db.
+  int reference_supersample = 1;
   uint32_t sample_images = 3;     // frames saved as PNG per technique, spread over the path
   bool plot = true;               // frame_times.png through python3-matplotlib
   float birdseye_height = 0;      // > 0: also a bird's-eye picture of each sample frame
@@ -68,6 +72,8 @@ struct FrameRecord {
   uint64_t proxy_triangles = 0;  // of the triangles, technique meshes (two per cube face)
   bool compared = false;         // a brute reference exists for this frame
   double psnr_db = 0;            // infinite when identical
+  // Against brute supersampled (BenchOptions::reference_supersample > 1); brute's frames too.
+  double psnr_supersampled_db = 0;
   uint64_t differing_pixels = 0;
   double pipelined_frame_ms = 0, pipelined_latency_ms = 0;  // BenchOptions::pipelined
   double predicted_ms = -1;  // the technique's own prediction of frame_ms; < 0: none
