@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "farfield/core/image_pyramid.hpp"
+
 namespace farfield {
 namespace {
 

@@ -12,25 +12,42 @@ namespace {
 constexpr int kOffset = 128;  // of a signed difference
 
 void check_same(const Image& a, const Image& b) {
-  FF_ASSERT(a.width == b.width && a.height == b.height, "images of %d x %d and %d x %d",
-            a.width, a.height, b.width, b.height);
+  FF_ASSERT(a.width == b.width && a.height == b.height, "images of %d x %d and %d x %d", a.width,
+            a.height, b.width, b.height);
 }
 
 }  // namespace
 
+Image box_downsample(const Image& image, int factor) {
+  FF_ASSERT(factor >= 1 && image.width % factor == 0 && image.height % factor == 0,
+            "box_downsample: %dx%d by %d", image.width, image.height, factor);
+  Image out(image.width / factor, image.height / factor);
+  const uint32_t area = uint32_t(factor * factor);
+  std::vector<uint32_t> sums(size_t(out.width) * 3);
+  for (int y = 0; y < out.height; ++y) {
+    std::fill(sums.begin(), sums.end(), 0u);
+    for (int dy = 0; dy < factor; ++dy) {
+      const uint8_t* row = image.pixel(0, y * factor + dy);
+      for (int x = 0; x < image.width; ++x)
+        for (int c = 0; c < 3; ++c) sums[size_t(x / factor) * 3 + c] += row[size_t(x) * 3 + c];
+    }
+    uint8_t* to = out.pixel(0, y);
+    for (size_t i = 0; i < sums.size(); ++i) to[i] = uint8_t((sums[i] + area / 2) / area);
+  }
+  return out;
+}
+
 Image reduced(const Image& fine, PyramidRule rule) {
-  FF_ASSERT(fine.width % 2 == 0 && fine.height % 2 == 0, "halving an image of %d x %d",
-            fine.width, fine.height);
+  FF_ASSERT(fine.width % 2 == 0 && fine.height % 2 == 0, "halving an image of %d x %d", fine.width,
+            fine.height);
+  if (rule == PyramidRule::mean) return box_downsample(fine, 2);
   Image coarse(fine.width / 2, fine.height / 2);
   for (int y = 0; y < coarse.height; ++y)
     for (int x = 0; x < coarse.width; ++x)
-      for (int c = 0; c < 3; ++c) {
-        const uint8_t a = fine.pixel(2 * x, 2 * y)[c], b = fine.pixel(2 * x + 1, 2 * y)[c],
-                      d = fine.pixel(2 * x, 2 * y + 1)[c], e = fine.pixel(2 * x + 1, 2 * y + 1)[c];
-        coarse.pixel(x, y)[c] = rule == PyramidRule::min  // paper 003, Eq. 1-3
-                                    ? std::min({a, b, d, e})
-                                    : uint8_t((int(a) + b + d + e + 2) / 4);
-      }
+      for (int c = 0; c < 3; ++c)  // paper 003, Eq. 1-3
+        coarse.pixel(x, y)[c] =
+            std::min({fine.pixel(2 * x, 2 * y)[c], fine.pixel(2 * x + 1, 2 * y)[c],
+                      fine.pixel(2 * x, 2 * y + 1)[c], fine.pixel(2 * x + 1, 2 * y + 1)[c]});
   return coarse;
 }
 

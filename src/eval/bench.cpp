@@ -17,6 +17,7 @@
 #include "farfield/core/atomic_file.hpp"
 #include "farfield/eval/chunked_reference.hpp"
 #include "farfield/eval/frame_loop.hpp"
+#include "farfield/core/image_pyramid.hpp"
 #include "farfield/eval/image_metrics.hpp"
 #include "farfield/eval/run_plan.hpp"
 #include "farfield/gpu/context.hpp"

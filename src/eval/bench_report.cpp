@@ -162,8 +162,14 @@ std::string format_bench_summary(const BenchReport& report) {
   }
   out += " pred_err\n";
   bool fell_back = false;
+  std::string supersampled;  // each technique's PSNR against brute supersampled, if measured
   for (const TechniqueRecord& t : report.techniques) {
     const BenchSummary s = summarize(t, brute, report.width, report.height, report.budget_ms);
+    if (s.supersampled_frames > 0) {
+      std::snprintf(line, sizeof(line), "%s %s %.2f", supersampled.empty() ? "" : ",",
+                    t.name.c_str(), s.psnr_supersampled_db_mean);
+      supersampled += line;
+    }
     char psnr[32] = "-";
     if (s.compared_frames > s.identical_frames)
       std::snprintf(psnr, sizeof(psnr), "%.2f", s.psnr_db_mean_differing);
@@ -205,14 +211,6 @@ std::string format_bench_summary(const BenchReport& report) {
       "geometry (outside its bake; docs/bench.md); over_1.1x: frames over 1.1 x the budget; "
       "pred_err: median |predicted - measured| / measured frame time, where the technique "
       "predicts it\n";
-  std::string supersampled;
-  for (const TechniqueRecord& t : report.techniques) {
-    const BenchSummary s = summarize(t, brute, report.width, report.height, report.budget_ms);
-    if (s.supersampled_frames == 0) continue;
-    std::snprintf(line, sizeof(line), "%s %s %.2f", supersampled.empty() ? "" : ",",
-                  t.name.c_str(), s.psnr_supersampled_db_mean);
-    supersampled += line;
-  }
   if (!supersampled.empty())
     out += "psnr_db against brute supersampled (mean over the compared frames, brute's own "
            "aliasing counted):" +

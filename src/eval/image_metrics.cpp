@@ -31,25 +31,6 @@ ImageComparison compare_images(const Image& a, const Image& b) {
   return c;
 }
 
-Image box_downsample(const Image& image, int factor) {
-  FF_ASSERT(factor >= 1 && image.width % factor == 0 && image.height % factor == 0,
-            "box_downsample: %dx%d by %d", image.width, image.height, factor);
-  Image out(image.width / factor, image.height / factor);
-  const uint32_t area = uint32_t(factor * factor);
-  std::vector<uint32_t> sums(size_t(out.width) * 3);
-  for (int y = 0; y < out.height; ++y) {
-    std::fill(sums.begin(), sums.end(), 0u);
-    for (int dy = 0; dy < factor; ++dy) {
-      const uint8_t* row = image.pixel(0, y * factor + dy);
-      for (int x = 0; x < image.width; ++x)
-        for (int c = 0; c < 3; ++c) sums[size_t(x / factor) * 3 + c] += row[size_t(x) * 3 + c];
-    }
-    uint8_t* to = out.pixel(0, y);
-    for (size_t i = 0; i < sums.size(); ++i) to[i] = uint8_t((sums[i] + area / 2) / area);
-  }
-  return out;
-}
-
 Image difference_image(const Image& a, const Image& b) {
   FF_ASSERT(a.width == b.width && a.height == b.height, "sizes %dx%d and %dx%d", a.width, a.height,
             b.width, b.height);

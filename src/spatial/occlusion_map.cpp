@@ -36,6 +36,13 @@ void edge_lines(const glm::vec2* poly, int count, glm::vec3* edges) {
   }
 }
 
+// Whether (x, y) lies inside every edge line by the margin.
+bool inside_edges(const glm::vec3* edges, int count, float x, float y) {
+  for (int k = 0; k < count; ++k)
+    if (!(edges[k].x * x + edges[k].y * y + edges[k].z >= kEdgeMargin)) return false;
+  return true;
+}
+
 }  // namespace
 
 void OcclusionMap::reset(const View& view, int texel_px) {
@@ -181,11 +188,7 @@ void OcclusionMap::fill_polygon(const glm::vec3* corners, int corner_count) {
 
   glm::vec3 edges[8];
   edge_lines(poly, count, edges);
-  const auto corner_in = [&](float x, float y) {
-    for (int k = 0; k < count; ++k)
-      if (!(edges[k].x * x + edges[k].y * y + edges[k].z >= kEdgeMargin)) return false;
-    return true;
-  };
+  const auto corner_in = [&](float x, float y) { return inside_edges(edges, count, x, y); };
   const auto covered = [&](int x, int y) {
     const float x0 = float(x), y0 = float(y);
     return corner_in(x0, y0) && corner_in(x0 + 1.0f, y0) && corner_in(x0, y0 + 1.0f) &&
@@ -241,11 +244,6 @@ void OcclusionMap::fill_centres(const glm::vec2* poly, int count, const glm::vec
   edge_lines(poly, count, edges);
   float inverse_x[8];  // per edge 1 / a, once a polygon instead of once a row
   for (int k = 0; k < count; ++k) inverse_x[k] = edges[k].x != 0.0f ? 1.0f / edges[k].x : 0.0f;
-  const auto inside = [&](float x, float y) {
-    for (int k = 0; k < count; ++k)
-      if (!(edges[k].x * x + edges[k].y * y + edges[k].z >= kEdgeMargin)) return false;
-    return true;
-  };
   // Row by row, the span of centres inside every edge; 1/depth is affine along it.
   const float da = n.x / scale_x_;  // n.r per pixel along x
   for (int j = j0; j <= j1; ++j) {
@@ -263,8 +261,8 @@ void OcclusionMap::fill_centres(const glm::vec2* poly, int count, const glm::vec
     int from = std::max(i0, int(std::ceil(left - 0.5f)));
     int to = std::min(i1, int(std::floor(right - 0.5f)));
     // The span's ends are computed in floats: test them again exactly.
-    if (from <= to && !inside(float(from) + 0.5f, y)) ++from;
-    if (from <= to && !inside(float(to) + 0.5f, y)) --to;
+    if (from <= to && !inside_edges(edges, count, float(from) + 0.5f, y)) ++from;
+    if (from <= to && !inside_edges(edges, count, float(to) + 0.5f, y)) --to;
     if (to < from) continue;
     float* row = &depth_[size_t(j) * size_t(width_)];
     const float nr0 = n.x * ((float(from) + 0.5f - 0.5f * texels_x_) / scale_x_) + n.y * b - n.z;

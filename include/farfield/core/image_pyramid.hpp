@@ -21,7 +21,11 @@ namespace farfield {
 
 enum class PyramidRule : uint8_t { min, mean };
 
-// Half the resolution by `rule`; the sides must be even.
+// Each `factor` x `factor` block of `image` averaged into one pixel (rounded to nearest): also
+// a frame drawn at `factor` times the width and height resolved as a box-filtered supersampled
+// one (bench's antialiased reference). The sides must be multiples of `factor`.
+Image box_downsample(const Image& image, int factor);
+// Half the resolution by `rule` (mean: box_downsample by 2); the sides must be even.
 Image reduced(const Image& fine, PyramidRule rule);
 // I_0 .. I_{levels - 1}; `level0`'s sides must be divisible by 2^(levels - 1).
 std::vector<Image> pyramid(const Image& level0, int levels, PyramidRule rule);

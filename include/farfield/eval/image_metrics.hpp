@@ -17,11 +17,6 @@ struct ImageComparison {
 // The images must have the same size (an assertion: the caller renders both).
 ImageComparison compare_images(const Image& reference, const Image& test);
 
-// Each `factor` x `factor` block of `image` averaged into one pixel (rounded to nearest): a
-// frame drawn at `factor` times the width and height, resolved as a box-filtered supersampled
-// frame. The sides must be multiples of `factor` (an assertion).
-Image box_downsample(const Image& image, int factor);
-
 // Paper 000, Fig. 6-5: per channel, test - reference added to 128 (neutral grey), clamped.
 Image difference_image(const Image& reference, const Image& test);
 
